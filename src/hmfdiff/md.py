@@ -1,0 +1,763 @@
+"""Molecular dynamics of the HMF model with on-the-fly <dJ^2> (paper, sec. "Comparison with
+simulations", eqs. hmfmdbath, hmfmdfull, dj2, hmfmddif).
+
+Dynamics (`run_md`):
+
+* 'bath' (eq. hmfmdbath): N_b bath particles in the static field theta'' = -M0 sin(theta), M0 the
+  state's theoretical magnetisation; N_tp test particles driven, without feedback, by the
+  instantaneous bath magnetisation: theta'' = -Mx_b sin(theta) + My_b cos(theta).
+* 'full' (eq. hmfmdfull): all N particles in the instantaneous magnetisation
+  theta'' = -Mx sin(theta) + My cos(theta); optional test particles driven by it without
+  feeding back.
+
+Integrator: velocity Verlet (kick-drift-kick leapfrog, 2nd order, symplectic and time
+reversible).  Consecutive half kicks are fused, so one pass over the particles per step updates
+p and theta and accumulates sum cos, sum sin of the new angles; a last half kick re-synchronises
+p with theta at each sampling time.  sin and cos are evaluated by a vectorisable polynomial
+(`sincos`, quadrant reduction with a three-part pi/2 and Taylor polynomials on [-pi/4, pi/4],
+|error| < 4e-16, tested against numpy), angles are stored wrapped to [-pi, pi).
+
+Reductions are deterministic: the particles are cut into a fixed number of chunks (independent
+of the thread count), each chunk's partial sums are combined in chunk order, so the same seed
+gives bit-identical output for any thread count on the same machine and build.
+
+Actions: J of every tracked particle, with the static M0 and, for 'full', in the frame of the
+instantaneous magnetisation (theta - arg(Mx + i My)); for 'bath' in the fixed frame.  K and E by
+the arithmetic-geometric mean (`action_numba`, ~1e-15 relative, tested against orbits.action).
+
+<dJ^2> (eq. dj2) is accumulated while the run goes: at every origin t0 (every `origin_every`)
+J(t0) and the J-bar bin of each tracked particle are stored in a ring buffer; at every sampling
+time the squared displacements of all active origins are added to sums per (bin, lag, block).
+Only origins whose whole lag window fits in the run are used, so every lag averages the same
+set of origins.  Origins are split into `n_blocks` contiguous blocks for error estimates.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time as _time
+
+import numba
+import numpy as np
+import xarray as xr
+from numba import njit, prange
+
+from . import sampling
+
+__all__ = [
+    "sincos_array",
+    "action_numba",
+    "actions",
+    "DisplacementAccumulator",
+    "run_md",
+    "INTEGRATOR",
+]
+
+INTEGRATOR = "velocity Verlet (kick-drift-kick leapfrog), 2nd order, symplectic"
+
+# no 'nnan'/'ninf': NaN checks must keep working (numba's fastmath=True would assume no NaN)
+_FM = {"reassoc", "contract", "arcp", "nsz"}
+
+_TWO_PI = 2.0 * math.pi
+_INV_TWO_PI = 1.0 / _TWO_PI
+_TWO_OVER_PI = 2.0 / math.pi
+# pi/2 split in three parts (33 + 33 + 53 bits): k * _P1 and k * _P2 are exact for |k| < 2^20
+_P1 = 1.57079632673412561417e00
+_P2 = 6.07710050630396597660e-11
+_P3 = 2.02226624879595063154e-21
+
+# Taylor coefficients of sin and cos on [-pi/4, pi/4]; truncation < 1e-17 there
+_S1, _S2, _S3, _S4, _S5, _S6, _S7 = (
+    (-1.0) ** k / math.factorial(2 * k + 1) for k in range(1, 8)
+)
+_C1, _C2, _C3, _C4, _C5, _C6, _C7, _C8 = (
+    (-1.0) ** k / math.factorial(2 * k) for k in range(1, 9)
+)
+
+_CHUNK = 4096  # particles per chunk of the deterministic reductions
+
+
+# ---------------------------------------------------------------------------------------------
+# elementary kernels
+# ---------------------------------------------------------------------------------------------
+@njit(fastmath={"contract"})
+def _sincos(x):
+    """(sin x, cos x) for |x| up to ~1e5, branch-free so that loops vectorise."""
+    k = math.floor(x * _TWO_OVER_PI + 0.5)
+    r = ((x - k * _P1) - k * _P2) - k * _P3
+    z = r * r
+    s = r + r * z * (_S1 + z * (_S2 + z * (_S3 + z * (_S4 + z * (_S5 + z * (_S6 + z * _S7))))))
+    c = 1.0 + z * (_C1 + z * (_C2 + z * (_C3 + z * (_C4 + z * (_C5 + z * (_C6 + z * (
+        _C7 + z * _C8)))))))
+    q = k - 4.0 * math.floor(0.25 * k)  # k mod 4 in {0, 1, 2, 3}
+    odd = (q == 1.0) | (q == 3.0)
+    sx = c if odd else s
+    cx = s if odd else c
+    sx = -sx if q >= 2.0 else sx
+    cx = -cx if (q == 1.0) | (q == 2.0) else cx
+    return sx, cx
+
+
+@njit(parallel=True, fastmath=_FM)
+def _sincos_kernel(x, s_out, c_out):
+    for i in prange(x.size):
+        s, c = _sincos(x[i])
+        s_out[i] = s
+        c_out[i] = c
+
+
+def sincos_array(x):
+    """Vectorised polynomial (sin x, cos x) used by the MD kernels (exposed for tests)."""
+    x = np.ascontiguousarray(x, dtype=np.float64).ravel()
+    s = np.empty_like(x)
+    c = np.empty_like(x)
+    _sincos_kernel(x, s, c)
+    return s, c
+
+
+@njit(fastmath=_FM)
+def _chunk_step_sum(theta, p, lo, hi, h, dt, Fx, Fy):
+    """One fused leapfrog step of particles lo..hi-1; returns sum cos, sum sin of the new angles.
+
+    p += h (-Fx sin theta + Fy cos theta); theta += dt p; theta wrapped to [-pi, pi)."""
+    sc = 0.0
+    ss = 0.0
+    for i in range(lo, hi):
+        s, c = _sincos(theta[i])
+        pi_ = p[i] + h * (Fy * c - Fx * s)
+        th = theta[i] + dt * pi_
+        th = th - _TWO_PI * math.floor(th * _INV_TWO_PI + 0.5)
+        s2, c2 = _sincos(th)
+        sc += c2
+        ss += s2
+        p[i] = pi_
+        theta[i] = th
+    return sc, ss
+
+
+@njit(fastmath=_FM)
+def _chunk_step(theta, p, lo, hi, h, dt, Fx, Fy):
+    """As `_chunk_step_sum` without the sums (test particles)."""
+    for i in range(lo, hi):
+        s, c = _sincos(theta[i])
+        pi_ = p[i] + h * (Fy * c - Fx * s)
+        th = theta[i] + dt * pi_
+        p[i] = pi_
+        theta[i] = th - _TWO_PI * math.floor(th * _INV_TWO_PI + 0.5)
+
+
+@njit(parallel=True)
+def _kick_drift(theta, p, first_kick, kick, dt, fx, fy, n_steps, field, accumulate, out):
+    """n_steps fused leapfrog steps of particles theta, p (in place).
+
+    Step j: p += h_j (-Fx sin theta + Fy cos theta); theta += dt p; theta wrapped to [-pi, pi);
+    h_0 = first_kick, h_j = kick for j > 0.  (Fx, Fy) at step j:
+      field == 0: (fx, fy) constant (static field);
+      field == 1: self-consistent: the magnetisation of these particles at the current time
+                  (fx, fy on entry are the magnetisation of the initial angles);
+      field == 2: external history: out[j, 2], out[j, 3] hold (Fx, Fy) of step j.
+    If accumulate: out[j, 0], out[j, 1] = mean cos, mean sin of the angles after step j.
+    Reductions go through fixed chunks combined in order (deterministic for any thread count).
+    """
+    n = theta.size
+    n_chunks = (n + _CHUNK - 1) // _CHUNK
+    part_c = np.zeros(n_chunks)
+    part_s = np.zeros(n_chunks)
+    Fx = fx
+    Fy = fy
+    h = first_kick
+    for j in range(n_steps):
+        if field == 2:
+            Fx = out[j, 2]
+            Fy = out[j, 3]
+        if accumulate:
+            for ch in prange(n_chunks):
+                lo = ch * _CHUNK
+                a, b = _chunk_step_sum(theta, p, lo, min(lo + _CHUNK, n), h, dt, Fx, Fy)
+                part_c[ch] = a
+                part_s[ch] = b
+            tc = 0.0
+            ts = 0.0
+            for ch in range(n_chunks):
+                tc += part_c[ch]
+                ts += part_s[ch]
+            out[j, 0] = tc / n
+            out[j, 1] = ts / n
+            if field == 1:
+                Fx = out[j, 0]
+                Fy = out[j, 1]
+        else:
+            for ch in prange(n_chunks):
+                lo = ch * _CHUNK
+                _chunk_step(theta, p, lo, min(lo + _CHUNK, n), h, dt, Fx, Fy)
+        h = kick
+
+
+@njit(parallel=True, fastmath=_FM)
+def _kick(theta, p, h, fx, fy):
+    """Half kick p += h (-fx sin theta + fy cos theta) (re-synchronises p at sampling times)."""
+    for i in prange(theta.size):
+        s, c = _sincos(theta[i])
+        p[i] = p[i] + h * (fy * c - fx * s)
+
+
+@njit(parallel=True, fastmath=_FM)
+def _moments(theta, p):
+    """(mean cos, mean sin, mean p, mean p^2), deterministic chunked reduction."""
+    n = theta.size
+    n_chunks = (n + _CHUNK - 1) // _CHUNK
+    part = np.zeros((n_chunks, 4))
+    for ch in prange(n_chunks):
+        lo = ch * _CHUNK
+        hi = min(lo + _CHUNK, n)
+        a = 0.0
+        b = 0.0
+        c_ = 0.0
+        d = 0.0
+        for i in range(lo, hi):
+            s, c = _sincos(theta[i])
+            a += c
+            b += s
+            c_ += p[i]
+            d += p[i] * p[i]
+        part[ch, 0] = a
+        part[ch, 1] = b
+        part[ch, 2] = c_
+        part[ch, 3] = d
+    tot = np.zeros(4)
+    for ch in range(n_chunks):
+        for k in range(4):
+            tot[k] += part[ch, k]
+    return tot / n
+
+
+# ---------------------------------------------------------------------------------------------
+# actions (eq. hmfaction) by the arithmetic-geometric mean
+# ---------------------------------------------------------------------------------------------
+@njit(inline="always")
+def _agm_K_and_sum(m, kp):
+    """K(m) = pi / (2 AGM(1, k')) and S = sum_{n>=1} 2^(n-1) c_n^2 with c_{n+1} = c_n^2/(4 a_{n+1})
+    (c_0^2 = m), so that E = K (1 - m/2 - S) (Legendre / Gauss AGM, DLMF 19.8)."""
+    a = 1.0
+    b = kp
+    c2 = m  # c_0^2
+    S = 0.0
+    w = 0.5  # 2^(n-1) for n = 0
+    for _ in range(40):
+        a1 = 0.5 * (a + b)
+        b = math.sqrt(a * b)
+        cn = c2 / (4.0 * a1)  # c_{n+1} = c_n^2 / (4 a_{n+1})
+        a = a1
+        c2 = cn * cn
+        w *= 2.0
+        S += w * c2  # 2^(n-1) c_n^2 for n >= 1 (w = 2^(n-1))
+        if c2 < 1e-34 * a * a:
+            break
+    return math.pi / (2.0 * a), S
+
+
+@njit(inline="always")
+def _action_from_kappa(kappa, sqrtM0):
+    """(J, J-bar) of the orbit kappa, eq. (hmfaction), full double precision from kappa -> 0 to
+    the separatrix: E - (1-m) K = K (m/2 - S) has no cancellation at small m."""
+    if kappa < 1.0:
+        m = kappa * kappa
+        m1 = (1.0 - kappa) * (1.0 + kappa)
+        K, S = _agm_K_and_sum(m, math.sqrt(m1))
+        J = 8.0 * sqrtM0 / math.pi * K * (0.5 * m - S)
+        return J, 0.5 * J
+    if kappa == 1.0:
+        J = 4.0 * sqrtM0 / math.pi
+        return J, J
+    m = 1.0 / (kappa * kappa)
+    m1 = (kappa - 1.0) * (kappa + 1.0) * m
+    K, S = _agm_K_and_sum(m, math.sqrt(m1))
+    J = 4.0 * sqrtM0 / math.pi * kappa * K * (1.0 - 0.5 * m - S)
+    return J, J
+
+
+@njit(parallel=True)
+def _actions_kernel(kappa, sqrtM0, J, Jbar):
+    for i in prange(kappa.size):
+        a, b = _action_from_kappa(kappa[i], sqrtM0)
+        J[i] = a
+        Jbar[i] = b
+
+
+def action_numba(kappa, M0):
+    """(J, J-bar) of orbits kappa with magnetisation M0 (numba, AGM); see orbits.action."""
+    k = np.ascontiguousarray(kappa, dtype=np.float64).ravel()
+    J = np.empty_like(k)
+    Jb = np.empty_like(k)
+    _actions_kernel(k, math.sqrt(M0), J, Jb)
+    return J.reshape(np.shape(kappa)), Jb.reshape(np.shape(kappa))
+
+
+@njit(parallel=True)
+def _phase_actions_kernel(theta, p, phase, M0, J, Jbar):
+    sqrtM0 = math.sqrt(M0)
+    inv4M0 = 1.0 / (4.0 * M0)
+    for i in prange(theta.size):
+        th = theta[i] - phase
+        th = th - _TWO_PI * math.floor(th * _INV_TWO_PI + 0.5)
+        s = math.sin(0.5 * th)
+        # kappa^2 = p^2/(4 M0) + sin^2(theta/2), free of the cancellation in h + M0
+        kappa = math.sqrt(p[i] * p[i] * inv4M0 + s * s)
+        a, b = _action_from_kappa(kappa, sqrtM0)
+        J[i] = a
+        Jbar[i] = b
+
+
+def actions(theta, p, M0, phase=0.0, out=None):
+    """(J, J-bar) of phase-space points, in the frame rotated by `phase` (numba, parallel)."""
+    theta = np.ascontiguousarray(theta, dtype=np.float64)
+    p = np.ascontiguousarray(p, dtype=np.float64)
+    if out is None:
+        out = (np.empty_like(theta), np.empty_like(theta))
+    _phase_actions_kernel(theta, p, float(phase), float(M0), out[0], out[1])
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# <dJ^2> accumulator
+# ---------------------------------------------------------------------------------------------
+@njit(parallel=True)
+def _accumulate_kernel(J, Jbar, slots, lags, blocks, J0, lib0, bin0, acc):
+    """For each active origin a (slot slots[a], lag lags[a], block blocks[a]) add, per particle
+    with bin0 >= 0: (J - J0)^2, (Jbar - Jbar0)^2, J - J0 and 1 into acc[:, bin, lag, block].
+
+    Active origins have distinct lags, so the prange over origins never writes one cell twice;
+    each cell sums its particles in index order (deterministic)."""
+    n = J.size
+    for a in prange(slots.size):
+        sl = slots[a]
+        L = lags[a]
+        B = blocks[a]
+        for i in range(n):
+            b = bin0[sl, i]
+            if b >= 0:
+                j0 = J0[sl, i]
+                jb0 = 0.5 * j0 if lib0[sl, i] else j0
+                d = J[i] - j0
+                db = Jbar[i] - jb0
+                acc[0, b, L, B] += d * d
+                acc[1, b, L, B] += db * db
+                acc[2, b, L, B] += d
+                acc[3, b, L, B] += 1.0
+
+
+@njit
+def _mark_seen(bins, seen):
+    for i in range(bins.size):
+        if bins[i] >= 0:
+            seen[i, bins[i]] = 1
+
+
+class DisplacementAccumulator:
+    """Sums of squared action displacements per (J-bar_0 bin, lag, block of origins), eq. (dj2).
+
+    Feed it the actions of all tracked particles at every sampling time index s = 0, 1, 2, ...
+    with `add(s, J, Jbar)`.  An origin starts at every s that is a multiple of `origin_every`
+    (in samples) while s + max_lag <= n_samples - 1, so every lag sees the same origins.  J(t0)
+    is kept in a ring buffer of max_lag // origin_every + 1 slots (float64 J, an int16 bin and a
+    librating flag per particle and slot).  Lags are 0 ... max_lag samples.
+    """
+
+    def __init__(self, n_track, jbar_edges, n_samples, max_lag, origin_every, n_blocks):
+        self.edges = np.asarray(jbar_edges, dtype=float)
+        self.n_bins = self.edges.size - 1
+        if self.n_bins < 1 or np.any(np.diff(self.edges) <= 0):
+            raise ValueError("jbar_edges must be increasing with at least 2 entries")
+        if self.n_bins > 32767:
+            raise ValueError("at most 32767 bins")
+        self.n_track = int(n_track)
+        self.n_samples = int(n_samples)
+        self.max_lag = int(max_lag)
+        self.origin_every = int(origin_every)
+        self.n_origins = (self.n_samples - 1 - self.max_lag) // self.origin_every + 1
+        if self.n_origins < 1:
+            raise ValueError("the run is too short for one origin with the full lag window")
+        self.n_blocks = int(n_blocks)
+        if not 1 <= self.n_blocks <= self.n_origins:
+            raise ValueError(
+                f"n_blocks = {n_blocks} must lie in [1, number of origins = {self.n_origins}]"
+            )
+        self.n_slots = min(self.max_lag // self.origin_every + 1, self.n_origins)
+        self.J0 = np.zeros((self.n_slots, self.n_track))
+        self.lib0 = np.zeros((self.n_slots, self.n_track), dtype=np.bool_)
+        self.bin0 = np.full((self.n_slots, self.n_track), -1, dtype=np.int16)
+        self.acc = np.zeros((4, self.n_bins, self.max_lag + 1, self.n_blocks))
+        self.seen = np.zeros((self.n_track, self.n_bins), dtype=np.uint8)
+        self.origin_sample = np.arange(self.n_origins) * self.origin_every
+
+    def block_of(self, origin):
+        return origin * self.n_blocks // self.n_origins
+
+    def bins_of(self, Jbar):
+        b = np.searchsorted(self.edges, Jbar, side="right") - 1
+        b[(b >= self.n_bins) | (Jbar < self.edges[0])] = -1
+        b[Jbar == self.edges[-1]] = self.n_bins - 1
+        return b.astype(np.int16)
+
+    def add(self, s, J, Jbar):
+        """Record the actions at sample index s (called for s = 0, 1, ... in order)."""
+        if s % self.origin_every == 0 and s // self.origin_every < self.n_origins:
+            o = s // self.origin_every
+            sl = o % self.n_slots
+            self.J0[sl] = J
+            self.lib0[sl] = Jbar != J  # J-bar = J/2 on librating orbits
+            self.bin0[sl] = self.bins_of(Jbar)
+            _mark_seen(self.bin0[sl], self.seen)
+        o_last = min(s // self.origin_every, self.n_origins - 1)
+        o_first = max(0, -(-(s - self.max_lag) // self.origin_every))
+        if o_last < o_first:
+            return
+        orig = np.arange(o_first, o_last + 1)
+        lags = s - orig * self.origin_every
+        keep = (lags >= 0) & (lags <= self.max_lag)
+        orig, lags = orig[keep], lags[keep]
+        if orig.size == 0:
+            return
+        slots = (orig % self.n_slots).astype(np.int64)
+        blocks = np.array([self.block_of(o) for o in orig], dtype=np.int64)
+        _accumulate_kernel(
+            np.ascontiguousarray(J), np.ascontiguousarray(Jbar), slots, lags.astype(np.int64),
+            blocks, self.J0, self.lib0, self.bin0, self.acc,
+        )
+
+    @property
+    def n_particles_in_bin(self):
+        return self.seen.sum(axis=0, dtype=np.int64)
+
+
+# ---------------------------------------------------------------------------------------------
+# driver
+# ---------------------------------------------------------------------------------------------
+def _default_progress(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def _multiple(name, value, unit_name, unit):
+    k = int(round(value / unit))
+    if k < 1 or abs(k * unit - value) > 1e-9 * max(abs(value), unit):
+        raise ValueError(
+            f"{name} = {value!r} must be a positive integer multiple of {unit_name} = {unit!r}"
+        )
+    return k
+
+
+def _validate(state, dynamics, n_particles, n_test, test_sampling, jbar_range, dt, t_max,
+              t_equilibrate, sample_every, max_lag, origin_every, jbar_edges, threads, n_blocks):
+    if dynamics not in ("bath", "full"):
+        raise ValueError(f"dynamics = {dynamics!r}: must be 'bath' or 'full'")
+    if not hasattr(state, "M0") or not 0.0 < state.M0 < 1.0:
+        raise ValueError("state must be an equilibrium state with 0 < M0 < 1")
+    for name, v, lo in (("n_particles", n_particles, 1), ("n_test", n_test, 0)):
+        if isinstance(v, bool) or int(v) != v or v < lo:
+            raise ValueError(f"{name} = {v!r} must be an integer >= {lo}")
+    if dynamics == "bath" and n_test < 1:
+        raise ValueError("dynamics 'bath' tracks test particles only: n_test must be >= 1")
+    if test_sampling not in ("f", "uniform"):
+        raise ValueError(f"test_sampling = {test_sampling!r}: must be 'f' or 'uniform'")
+    if test_sampling == "uniform" and n_test > 0:
+        if jbar_range is None or len(jbar_range) != 2 or not 0 <= jbar_range[0] < jbar_range[1]:
+            raise ValueError(
+                f"jbar_range = {jbar_range!r}: test_sampling 'uniform' needs "
+                "(Jbar_min, Jbar_max) with 0 <= Jbar_min < Jbar_max"
+            )
+    for name, v in (("dt", dt), ("t_max", t_max), ("sample_every", sample_every),
+                    ("max_lag", max_lag), ("origin_every", origin_every)):
+        if not (np.isfinite(v) and v > 0):
+            raise ValueError(f"{name} = {v!r} must be finite and > 0")
+    if not (np.isfinite(t_equilibrate) and t_equilibrate >= 0):
+        raise ValueError(f"t_equilibrate = {t_equilibrate!r} must be finite and >= 0")
+    if max_lag > t_max:
+        raise ValueError(f"max_lag = {max_lag!r} must be <= t_max = {t_max!r}")
+    n_sub = _multiple("sample_every", sample_every, "dt", dt)
+    n_lag = _multiple("max_lag", max_lag, "sample_every", sample_every)
+    n_orig = _multiple("origin_every", origin_every, "sample_every", sample_every)
+    n_samp = _multiple("t_max", t_max, "sample_every", sample_every)
+    n_eq = 0 if t_equilibrate == 0 else _multiple("t_equilibrate", t_equilibrate, "dt", dt)
+    edges = np.asarray(jbar_edges, dtype=float)
+    if edges.ndim != 1 or edges.size < 2 or np.any(~np.isfinite(edges)) or np.any(
+        np.diff(edges) <= 0
+    ) or edges[0] < 0:
+        raise ValueError("jbar_edges must be a finite increasing 1-d array (>= 2 values, >= 0)")
+    if isinstance(threads, bool) or int(threads) != threads or not (
+        1 <= threads <= numba.config.NUMBA_NUM_THREADS
+    ):
+        raise ValueError(
+            f"threads = {threads!r} must be an integer in [1, {numba.config.NUMBA_NUM_THREADS}]"
+        )
+    n_origins = (n_samp - n_lag) // n_orig + 1
+    if isinstance(n_blocks, bool) or int(n_blocks) != n_blocks or not 1 <= n_blocks <= n_origins:
+        raise ValueError(
+            f"n_blocks = {n_blocks!r} must be an integer in [1, number of origins = {n_origins}]"
+        )
+    return n_sub, n_lag, n_orig, n_samp, n_eq, edges
+
+
+def run_md(state, *, dynamics, n_particles, n_test=0, test_sampling="f", jbar_range=None,
+           dt, t_max, t_equilibrate=0.0, sample_every, max_lag, origin_every, jbar_edges,
+           seed, member=0, threads=1, n_blocks=10, n_store=16, zero_momentum=True,
+           progress=_default_progress, progress_every=5.0):
+    """Run MD(bath) or MD(full) and accumulate <dJ^2> per J-bar_0 bin and lag (eq. dj2).
+
+    Times: the run integrates t_equilibrate (no measurement), then t_max of production with
+    samples every `sample_every` (t = 0 is the start of production).  Origins every
+    `origin_every`, lags 0 ... max_lag.  Tracked particles: the n_test test particles for
+    'bath'; the n_particles particles and the n_test test particles for 'full'.
+
+    Initial conditions: `sampling.sample_state` (exact thermal sampler for thermal states, the
+    kappa marginal otherwise) for the bath / interacting particles; test particles from f
+    ('f') or uniform in J-bar over `jbar_range` ('uniform').  All angles are then rotated so
+    that the magnetisation of the interacting particles lies on x; for 'full' with
+    zero_momentum, their mean momentum is subtracted (test particles are left as drawn).
+
+    Returns an xarray.Dataset (see the module docstring and the variables' long_name).
+    """
+    n_sub, n_lag, n_orig, n_samp, n_eq, edges = _validate(
+        state, dynamics, n_particles, n_test, test_sampling, jbar_range, dt, t_max,
+        t_equilibrate, sample_every, max_lag, origin_every, jbar_edges, threads, n_blocks)
+    if progress is None:
+        progress = lambda msg: None  # noqa: E731
+    n_particles, n_test = int(n_particles), int(n_test)
+    M0 = float(state.M0)
+    wall0 = _time.perf_counter()
+    numba.set_num_threads(int(threads))
+
+    # ---- initial conditions ----
+    rng = sampling.make_rng(seed, member)
+    th_b, p_b = sampling.sample_state(state, n_particles, rng)
+    if n_test > 0:
+        if test_sampling == "f":
+            th_t, p_t = sampling.sample_state(state, n_test, rng)
+        else:
+            th_t, p_t = sampling.sample_uniform_jbar(M0, n_test, jbar_range, rng)
+    else:
+        th_t, p_t = np.zeros(0), np.zeros(0)
+    th_b, th_t, phase0 = sampling.rotate_to_x_axis(th_b, th_t)
+    if dynamics == "full" and zero_momentum:
+        p_b = p_b - p_b.mean()
+    th_b = np.ascontiguousarray(th_b)
+    p_b = np.ascontiguousarray(p_b)
+    th_t = np.ascontiguousarray(th_t)
+    p_t = np.ascontiguousarray(p_t)
+
+    n_track = n_particles + n_test if dynamics == "full" else n_test
+    acc = DisplacementAccumulator(n_track, edges, n_samp + 1, n_lag, n_orig, n_blocks)
+    n_store = min(int(n_store), n_track)
+    store_idx = np.unique(np.linspace(0, n_track - 1, n_store).astype(np.int64))
+
+    # ---- integration helpers ----
+    mom = _moments(th_b, p_b)  # mean cos, mean sin, mean p, mean p^2 (bath / interacting)
+    M = np.array([mom[0], mom[1]])  # magnetisation of the interacting particles
+    hist = np.zeros((max(n_sub, n_eq, 1), 4))
+
+    def advance(n_steps):
+        """n_steps velocity-Verlet steps of all particles; p synchronised at the end."""
+        nonlocal M
+        if n_steps == 0:
+            return
+        out = hist[:n_steps]
+        h = 0.5 * dt
+        if dynamics == "full":
+            # test particles need the field of steps 0..n-1: M before each step
+            _kick_drift(th_b, p_b, h, dt, dt, M[0], M[1], n_steps, 1, True, out)
+            if n_test:
+                fx = np.empty(n_steps)
+                fy = np.empty(n_steps)
+                fx[0], fy[0] = M
+                fx[1:], fy[1:] = out[:-1, 0], out[:-1, 1]
+                ext = np.zeros((n_steps, 4))
+                ext[:, 2], ext[:, 3] = fx, fy
+                _kick_drift(th_t, p_t, h, dt, dt, 0.0, 0.0, n_steps, 2, False, ext)
+            M = out[n_steps - 1, :2].copy()
+            _kick(th_b, p_b, h, M[0], M[1])
+            if n_test:
+                _kick(th_t, p_t, h, M[0], M[1])
+        else:
+            Mb_before = M.copy()
+            _kick_drift(th_b, p_b, h, dt, dt, M0, 0.0, n_steps, 0, True, out)
+            ext = np.zeros((n_steps, 4))
+            ext[0, 2:] = Mb_before
+            ext[1:, 2:] = out[:-1, :2]
+            _kick_drift(th_t, p_t, h, dt, dt, 0.0, 0.0, n_steps, 2, False, ext)
+            M = out[n_steps - 1, :2].copy()
+            _kick(th_b, p_b, h, M0, 0.0)
+            _kick(th_t, p_t, h, M[0], M[1])
+
+    J = np.empty(n_track)
+    Jb = np.empty(n_track)
+    n_times = n_samp + 1
+    ts = {k: np.zeros(n_times) for k in ("Mx", "My", "energy", "momentum")}
+    store_th = np.zeros((n_times, store_idx.size))
+    store_p = np.zeros_like(store_th)
+    store_J = np.zeros_like(store_th)
+
+    def measure(s):
+        mom = _moments(th_b, p_b)
+        ts["Mx"][s], ts["My"][s] = mom[0], mom[1]
+        ts["momentum"][s] = mom[2]
+        if dynamics == "full":
+            ts["energy"][s] = 0.5 * mom[3] - 0.5 * (mom[0] ** 2 + mom[1] ** 2)
+            phase = math.atan2(mom[1], mom[0])
+            if n_test:
+                actions(th_b, p_b, M0, phase, (J[:n_particles], Jb[:n_particles]))
+                tj, tjb = actions(th_t, p_t, M0, phase)
+                J[n_particles:], Jb[n_particles:] = tj, tjb
+                th_all = np.concatenate([th_b, th_t])[store_idx]
+                p_all = np.concatenate([p_b, p_t])[store_idx]
+            else:
+                actions(th_b, p_b, M0, phase, (J, Jb))
+                th_all, p_all = th_b[store_idx], p_b[store_idx]
+            store_th[s] = sampling.wrap_angle(th_all - phase)
+        else:
+            ts["energy"][s] = 0.5 * mom[3] - M0 * mom[0]
+            actions(th_t, p_t, M0, 0.0, (J, Jb))
+            p_all = p_t[store_idx]
+            store_th[s] = th_t[store_idx]
+        store_p[s] = p_all
+        store_J[s] = J[store_idx]
+        acc.add(s, J, Jb)
+
+    # ---- run ----
+    n_total_steps = n_eq + n_samp * n_sub
+    n_all = n_particles + n_test
+    t_last = _time.perf_counter()
+    t_start = t_last
+    steps_done = 0
+
+    def report(tsim):
+        nonlocal t_last
+        now = _time.perf_counter()
+        if now - t_last >= progress_every:
+            rate = steps_done * n_all / max(now - t_start, 1e-9)
+            progress(
+                f"run_md[{dynamics}] t = {tsim:.6g} / {t_equilibrate + t_max:.6g} "
+                f"({100.0 * steps_done / n_total_steps:.1f}%), {rate:.3g} particle-steps/s"
+            )
+            t_last = now
+
+    remaining = n_eq
+    while remaining > 0:
+        k = min(remaining, max(n_sub, 1), hist.shape[0])
+        advance(k)
+        remaining -= k
+        steps_done += k
+        report(steps_done * dt)
+    measure(0)
+    for s in range(1, n_samp + 1):
+        advance(n_sub)
+        steps_done += n_sub
+        measure(s)
+        report(t_equilibrate + s * sample_every)
+    wall = _time.perf_counter() - wall0
+    progress(f"run_md[{dynamics}] done in {wall:.1f} s wall, "
+             f"{steps_done * n_all / max(_time.perf_counter() - t_start, 1e-9):.3g} "
+             "particle-steps/s")
+
+    return _to_dataset(state, acc, ts, store_idx, store_th, store_p, store_J, locals_=dict(
+        dynamics=dynamics, n_particles=n_particles, n_test=n_test, test_sampling=test_sampling,
+        jbar_range=jbar_range, dt=dt, t_max=t_max, t_equilibrate=t_equilibrate,
+        sample_every=sample_every, max_lag=max_lag, origin_every=origin_every, seed=seed,
+        member=member, threads=threads, n_blocks=n_blocks, zero_momentum=zero_momentum,
+        wall=wall, phase0=phase0, M0=M0, n_track=n_track))
+
+
+def _to_dataset(state, acc, ts, store_idx, store_th, store_p, store_J, locals_):
+    g = locals_
+    edges = acc.edges
+    lag = np.arange(acc.max_lag + 1) * g["sample_every"]
+    time = np.arange(store_th.shape[0]) * g["sample_every"]
+    a = acc.acc
+    dims3 = ("bin", "lag", "block")
+    a1 = "action (dimensionless HMF units)"
+
+    def v(dims, data, units, long_name):
+        return xr.Variable(dims, data, {"units": units, "long_name": long_name})
+
+    if g["dynamics"] == "full":
+        e_def = "H/N = sum p^2/(2N) - (Mx^2 + My^2)/2 of the N interacting particles"
+    else:
+        e_def = ("mean one-particle energy of the bath in the static field, "
+                 "sum (p^2/2 - M0 cos theta)/N_b (conserved by the bath dynamics)")
+    ds = xr.Dataset(
+        {
+            "sum_dJ2": v(("bin", "lag"), a[0].sum(-1), f"{a1}^2",
+                         "sum over origins and particles of (J(t0+lag) - J(t0))^2"),
+            "sum_dJbar2": v(("bin", "lag"), a[1].sum(-1), f"{a1}^2",
+                            "sum over origins and particles of (Jbar(t0+lag) - Jbar(t0))^2"),
+            "sum_dJ": v(("bin", "lag"), a[2].sum(-1), a1,
+                        "sum over origins and particles of J(t0+lag) - J(t0)"),
+            "count": v(("bin", "lag"), a[3].sum(-1).astype(np.int64), "1",
+                       "number of (origin, particle) pairs in the sums"),
+            "sum_dJ2_block": v(dims3, a[0], f"{a1}^2", "sum_dJ2 restricted to a block of origins"),
+            "sum_dJbar2_block": v(dims3, a[1], f"{a1}^2",
+                                  "sum_dJbar2 restricted to a block of origins"),
+            "sum_dJ_block": v(dims3, a[2], a1, "sum_dJ restricted to a block of origins"),
+            "count_block": v(dims3, a[3].astype(np.int64), "1",
+                             "count restricted to a block of origins"),
+            "n_particles_in_bin": v(("bin",), acc.n_particles_in_bin, "1",
+                                    "number of distinct particles in the bin at any origin"),
+            "n_origins_in_block": v(("block",), np.bincount(
+                [acc.block_of(o) for o in range(acc.n_origins)], minlength=acc.n_blocks), "1",
+                "number of time origins in the block"),
+            "Mx": v(("time",), ts["Mx"], "1",
+                    "magnetisation x component of the bath / interacting particles"),
+            "My": v(("time",), ts["My"], "1",
+                    "magnetisation y component of the bath / interacting particles"),
+            "energy": v(("time",), ts["energy"], "energy per particle", e_def),
+            "momentum": v(("time",), ts["momentum"], "momentum per particle",
+                          "total momentum per particle sum p_i / N of the bath / interacting "
+                          "particles"),
+            "sample_theta": v(("time", "tracer"), store_th, "rad",
+                              "angle of sample tracked particles in the action frame"),
+            "sample_p": v(("time", "tracer"), store_p, "1", "momentum of sample tracked particles"),
+            "sample_J": v(("time", "tracer"), store_J, a1, "action J of sample tracked particles"),
+        },
+        coords={
+            "jbar_edges": v(("edge",), edges, a1, "edges of the bins of initial rescaled action"),
+            "jbar0": v(("bin",), 0.5 * (edges[1:] + edges[:-1]), a1,
+                       "bin centre of the initial rescaled action Jbar(t0)"),
+            "lag": v(("lag",), lag, "time (1/sqrt(M=1) units)", "time lag Delta t"),
+            "time": v(("time",), time, "time", "time since the start of production"),
+            "block": v(("block",), np.arange(acc.n_blocks), "1",
+                       "block of consecutive time origins"),
+            "tracer": v(("tracer",), store_idx, "1", "index of the stored tracked particle"),
+        },
+    )
+    ds.attrs.update(
+        {
+            "dynamics": g["dynamics"],
+            "N": g["n_particles"],
+            "n_test": g["n_test"],
+            "n_tracked": g["n_track"],
+            "test_sampling": g["test_sampling"] if g["n_test"] else "none",
+            "jbar_range": "none" if g["jbar_range"] is None else
+            np.asarray(g["jbar_range"], dtype=float),
+            "dt": float(g["dt"]),
+            "t_max": float(g["t_max"]),
+            "t_equilibrate": float(g["t_equilibrate"]),
+            "sample_every": float(g["sample_every"]),
+            "origin_every": float(g["origin_every"]),
+            "max_lag": float(g["max_lag"]),
+            "n_origins": acc.n_origins,
+            "n_blocks": acc.n_blocks,
+            "integrator": INTEGRATOR,
+            "seed": int(g["seed"]),
+            "member": int(g["member"]),
+            "threads": int(g["threads"]),
+            "M0_actions": g["M0"],
+            "action_frame": ("frame of the instantaneous magnetisation of the N particles"
+                             if g["dynamics"] == "full" else "fixed frame (static field on x)"),
+            "energy_definition": e_def,
+            "zero_momentum": int(bool(g["zero_momentum"]) and g["dynamics"] == "full"),
+            "initial_rotation": g["phase0"],
+            "wall_time_s": g["wall"],
+            "state_kind": getattr(state, "kind", type(state).__name__),
+            "mean_dJ2": "sum_dJ2 / count; D_dif = slope / 2 (eq. hmfmddif)",
+        }
+    )
+    return ds

@@ -1,0 +1,15 @@
+rule equilibrium:
+    """Equilibrium state of one case: beta or self-consistent M0, u, f(kappa), df/dkappa."""
+    input:
+        lib=lib("equilibrium", "orbits", "fourier", "io"),
+    output:
+        "results/equilibrium/{case}.nc",
+    params:
+        spec=case_spec,
+        grid=lambda w: json.dumps(config["grids"]["equilibrium"], sort_keys=True),
+    log:
+        "logs/equilibrium/{case}.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    script:
+        "../scripts/equilibrium.py"

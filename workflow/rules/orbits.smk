@@ -1,0 +1,15 @@
+rule orbits:
+    """Action-angle variables J, Omega, derivatives and Fourier coefficients c_n, s_n on a kappa grid."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        lib=lib("orbits", "fourier", "io"),
+    output:
+        "results/orbits/{case}.nc",
+    params:
+        grid=lambda w: json.dumps(config["grids"]["orbits"], sort_keys=True),
+    log:
+        "logs/orbits/{case}.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    script:
+        "../scripts/orbits.py"
