@@ -27,6 +27,10 @@ validate(config, "workflow/schemas/config.schema.yaml")
 CASES = list(config["cases"])
 
 
+wildcard_constraints:
+    case="|".join(re.escape(c) for c in CASES),
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/equilibrium.smk"
 include: "workflow/rules/orbits.smk"
@@ -34,8 +38,8 @@ include: "workflow/rules/figures.smk"
 
 
 rule all:
+    default_target: True
     input:
         expand("results/equilibrium/{case}.nc", case=CASES),
         expand("results/orbits/{case}.nc", case=CASES),
         figure_targets(),
-    default_target: True

@@ -23,16 +23,29 @@ def integrate_orbit(kappa, M0, sign=1.0, n_periods=1.0, n_samples=None, t_end=No
     y0 = [0.0, p0]
     lib = kappa < 1
     if lib:
+
         def event(t, y, M0):
             return y[0]  # theta = 0 crossing (upwards when p > 0)
+
         event.direction = 1.0
     else:
+
         def event(t, y, M0):
             return np.sin(0.5 * y[0])  # theta = 2 pi crossing
+
         event.direction = 0.0
     T_guess = 4.0 * np.pi / np.sqrt(M0) / max(kappa, 0.05) + 200.0
-    sol = solve_ivp(pendulum_rhs, (0.0, t_end or T_guess), y0, args=(M0,), method="DOP853",
-                    rtol=1e-12, atol=1e-13, events=event, dense_output=True)
+    sol = solve_ivp(
+        pendulum_rhs,
+        (0.0, t_end or T_guess),
+        y0,
+        args=(M0,),
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-13,
+        events=event,
+        dense_output=True,
+    )
     times = sol.t_events[0]
     times = times[times > 1e-6]
     period = times[0]

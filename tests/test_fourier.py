@@ -10,8 +10,20 @@ M0 = 0.6
 N = np.arange(-6, 7)
 
 
-@pytest.mark.parametrize("kappa,sign", [(0.1, 1), (0.5, 1), (0.9, 1), (0.99, 1),
-                                        (1.01, 1), (1.01, -1), (1.5, 1), (1.5, -1), (3.0, -1)])
+@pytest.mark.parametrize(
+    "kappa,sign",
+    [
+        (0.1, 1),
+        (0.5, 1),
+        (0.9, 1),
+        (0.99, 1),
+        (1.01, 1),
+        (1.01, -1),
+        (1.5, 1),
+        (1.5, -1),
+        (3.0, -1),
+    ],
+)
 def test_coefficients_match_fft_of_integrated_orbit(kappa, sign):
     """Integrate the orbit from theta = 0 (w = 0), sample uniformly in time over one period
     (w = Omega t), and Fourier transform cos(theta), sin(theta)."""

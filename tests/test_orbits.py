@@ -61,11 +61,14 @@ def test_separatrix_is_finite_on_both_sides_and_J_jumps():
     assert orbits.action(1 + 1e-12, M0) == pytest.approx(4 * s / np.pi, rel=1e-9)
     # Omega -> 0 logarithmically: K(k) ~ ln(4/k') as k' = sqrt(1 - k^2) -> 0
     kp = np.sqrt(1 - (1 - 1e-12) ** 2)
-    assert orbits.frequency(1 - 1e-12, M0) == pytest.approx(np.pi * s / (2 * np.log(4 / kp)), rel=1e-6)
+    assert orbits.frequency(1 - 1e-12, M0) == pytest.approx(
+        np.pi * s / (2 * np.log(4 / kp)), rel=1e-6
+    )
     assert orbits.frequency(1 + 1e-12, M0) < orbits.frequency(1 + 1e-6, M0) < s
     # J-bar is continuous across the separatrix
     assert orbits.rescaled_action(1 - 1e-12, M0) == pytest.approx(
-        orbits.rescaled_action(1 + 1e-12, M0), rel=1e-9)
+        orbits.rescaled_action(1 + 1e-12, M0), rel=1e-9
+    )
 
 
 def test_large_kappa_free_rotation():
@@ -75,8 +78,9 @@ def test_large_kappa_free_rotation():
     assert orbits.frequency(k, M0) == pytest.approx(2 * np.sqrt(M0) * k, rel=1e-6)
 
 
-@pytest.mark.parametrize("kappa,sign", [(0.3, 1), (0.9, 1), (0.999, 1), (1.02, 1), (1.02, -1),
-                                        (2.0, 1), (2.0, -1)])
+@pytest.mark.parametrize(
+    "kappa,sign", [(0.3, 1), (0.9, 1), (0.999, 1), (1.02, 1), (1.02, -1), (2.0, 1), (2.0, -1)]
+)
 def test_phase_point_follows_integrated_orbit(kappa, sign):
     """theta(w), p(w) at w = Omega t reproduce the orbit integrated from w = 0."""
     period, t, theta, p = integrate_orbit(kappa, M0, sign=sign, n_samples=64)
@@ -100,8 +104,13 @@ def test_angle_action_round_trip_random_points():
     np.testing.assert_allclose(p2, p, atol=1e-9)
 
 
-@pytest.mark.parametrize("family,kappa", [("libration", np.array([1e-3, 0.3, 0.9, 0.999999])),
-                                          ("rotation", np.array([1.000001, 1.1, 4.0, 50.0]))])
+@pytest.mark.parametrize(
+    "family,kappa",
+    [
+        ("libration", np.array([1e-3, 0.3, 0.9, 0.999999])),
+        ("rotation", np.array([1.000001, 1.1, 4.0, 50.0])),
+    ],
+)
 def test_kappa_from_action_inverts_action(family, kappa):
     J = orbits.action(kappa, M0)
     np.testing.assert_allclose(orbits.kappa_from_action(J, M0, family), kappa, rtol=1e-10)

@@ -65,11 +65,17 @@ def check_case(name, spec):
             _in_range(where, "M0", spec["M0"], 0.0, 1.0, why="magnetisation of a magnetised state")
         else:
             _in_range(
-                where, "u", spec["u"], U_MINIMUM, U_CRITICAL,
+                where,
+                "u",
+                spec["u"],
+                U_MINIMUM,
+                U_CRITICAL,
                 why="energy per particle on the magnetised thermal branch, u_c = 1/4",
             )
     elif kind in ("core_halo", "two_step"):
-        fields = ["eta1", "eta2", "mu1", "mu2"] + (["beta1", "beta2"] if kind == "core_halo" else [])
+        fields = ["eta1", "eta2", "mu1", "mu2"] + (
+            ["beta1", "beta2"] if kind == "core_halo" else []
+        )
         _require(where, spec, fields)
         for f in ("eta1", "eta2"):
             _in_range(where, f, spec[f], 0.0, math.inf, lo_open=False, why="phase-space density")
@@ -106,7 +112,9 @@ def check_config(config):
         n = g["n_kappa"]
         if isinstance(n, bool) or not isinstance(n, int) or n < 16:
             raise ConfigError(f"{where}: field 'n_kappa' = {n!r} must be an integer >= 16")
-        _in_range(where, "kappa_max", g["kappa_max"], 1.0, 1e3, why="must lie beyond the separatrix")
+        _in_range(
+            where, "kappa_max", g["kappa_max"], 1.0, 1e3, why="must lie beyond the separatrix"
+        )
     if "n_max" in grids["orbits"]:
         n = grids["orbits"]["n_max"]
         if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 64:

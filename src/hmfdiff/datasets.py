@@ -41,33 +41,63 @@ def equilibrium_dataset(state, n_kappa, kappa_max):
     dos = 2.0 * np.pi * orbits.phase_space_weight(kappa) * orbits.dJ_dkappa(kappa, state.M0)
     ds = xr.Dataset(
         {
-            "f": ("kappa", f, {"units": "1", "long_name": "phase-space density f(kappa), "
-                               "normalised to int f dtheta dp = 1"}),
-            "dfdkappa": ("kappa", state.dfdkappa(kappa), {
-                "units": "1", "long_name": "df/dkappa (smooth part; steps in attribute 'steps')"}),
-            "density_of_states": ("kappa", dos, {
-                "units": "1", "long_name": "phase-space area per unit kappa, "
-                "2 pi dJ/dkappa times 2 on rotating orbits (both directions)"}),
-            "kappa_distribution": ("kappa", f * dos, {
-                "units": "1", "long_name": "probability density of kappa, f * density_of_states"}),
+            "f": (
+                "kappa",
+                f,
+                {
+                    "units": "1",
+                    "long_name": "phase-space density f(kappa), normalised to int f dtheta dp = 1",
+                },
+            ),
+            "dfdkappa": (
+                "kappa",
+                state.dfdkappa(kappa),
+                {"units": "1", "long_name": "df/dkappa (smooth part; steps in attribute 'steps')"},
+            ),
+            "density_of_states": (
+                "kappa",
+                dos,
+                {
+                    "units": "1",
+                    "long_name": "phase-space area per unit kappa, "
+                    "2 pi dJ/dkappa times 2 on rotating orbits (both directions)",
+                },
+            ),
+            "kappa_distribution": (
+                "kappa",
+                f * dos,
+                {"units": "1", "long_name": "probability density of kappa, f * density_of_states"},
+            ),
             "M0": scalar(state.M0, "1", "magnetisation M0 (self-consistent)"),
             "u": scalar(state.u, "1", "energy per particle u = <p^2>/2 - M0^2/2"),
         },
-        coords={"kappa": ("kappa", kappa, {"units": "1", "long_name":
-                          "orbit label kappa = sqrt((h + M0)/(2 M0)); < 1 librating"})},
+        coords={
+            "kappa": (
+                "kappa",
+                kappa,
+                {
+                    "units": "1",
+                    "long_name": "orbit label kappa = sqrt((h + M0)/(2 M0)); < 1 librating",
+                },
+            )
+        },
     )
     ds.attrs["kind"] = state.kind if not getattr(state, "shape", "") == "step" else "two_step"
     ds.attrs["state_params"] = json.dumps(state.params, sort_keys=True)
     if isinstance(state, ThermalState):
-        ds["beta"] = scalar(state.beta, "1", "inverse temperature beta, M0 = I1(beta M0)/I0(beta M0)")
+        ds["beta"] = scalar(
+            state.beta, "1", "inverse temperature beta, M0 = I1(beta M0)/I0(beta M0)"
+        )
     if isinstance(state, CoreHaloState):
         ds["mass"] = scalar(state.mass, "1", "int f_raw dtheta dp before normalisation")
         if state.shape == "step":
-            ds.attrs["steps"] = json.dumps({
-                "kappa": list(map(float, state.step_kappas)),
-                "weight": list(map(float, state.step_weights)),
-                "meaning": "df/dkappa = -sum_i weight_i delta(kappa - kappa_i)",
-            })
+            ds.attrs["steps"] = json.dumps(
+                {
+                    "kappa": list(map(float, state.step_kappas)),
+                    "weight": list(map(float, state.step_weights)),
+                    "meaning": "df/dkappa = -sum_i weight_i delta(kappa - kappa_i)",
+                }
+            )
     return ds
 
 
@@ -93,18 +123,43 @@ def orbits_dataset(M0, n_kappa, kappa_max, n_max):
     ds = xr.Dataset(
         {
             "J": ("kappa", orbits.action(kappa, M0), {"units": "1", "long_name": "action J"}),
-            "Jbar": ("kappa", orbits.rescaled_action(kappa, M0), {
-                "units": "1", "long_name": "rescaled action J-bar (J/2 for kappa < 1)"}),
-            "Omega": ("kappa", orbits.frequency(kappa, M0), {
-                "units": "1", "long_name": "orbital frequency Omega = dh/dJ"}),
-            "dJ_dkappa": ("kappa", orbits.dJ_dkappa(kappa, M0), {
-                "units": "1", "long_name": "dJ/dkappa"}),
-            "dOmega_dkappa": ("kappa", orbits.dOmega_dkappa(kappa, M0), {
-                "units": "1", "long_name": "dOmega/dkappa"}),
-            "c": (("n", "kappa"), c, {"units": "1", "long_name":
-                  "c_n = (1/2pi) int cos(theta(w)) exp(-inw) dw (real; c_-n = c_n)"}),
-            "sigma": (("n", "kappa"), sig, {"units": "1", "long_name":
-                      "s_n = -i sigma_n for p > 0 (sigma flips sign for p < 0; s_-n = -s_n)"}),
+            "Jbar": (
+                "kappa",
+                orbits.rescaled_action(kappa, M0),
+                {"units": "1", "long_name": "rescaled action J-bar (J/2 for kappa < 1)"},
+            ),
+            "Omega": (
+                "kappa",
+                orbits.frequency(kappa, M0),
+                {"units": "1", "long_name": "orbital frequency Omega = dh/dJ"},
+            ),
+            "dJ_dkappa": (
+                "kappa",
+                orbits.dJ_dkappa(kappa, M0),
+                {"units": "1", "long_name": "dJ/dkappa"},
+            ),
+            "dOmega_dkappa": (
+                "kappa",
+                orbits.dOmega_dkappa(kappa, M0),
+                {"units": "1", "long_name": "dOmega/dkappa"},
+            ),
+            "c": (
+                ("n", "kappa"),
+                c,
+                {
+                    "units": "1",
+                    "long_name": "c_n = (1/2pi) int cos(theta(w)) exp(-inw) dw (real; c_-n = c_n)",
+                },
+            ),
+            "sigma": (
+                ("n", "kappa"),
+                sig,
+                {
+                    "units": "1",
+                    "long_name": "s_n = -i sigma_n for p > 0 "
+                    "(sigma flips sign for p < 0; s_-n = -s_n)",
+                },
+            ),
             "M0": scalar(M0, "1", "magnetisation M0"),
         },
         coords={

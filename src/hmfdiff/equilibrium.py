@@ -117,8 +117,8 @@ class PhaseSpaceQuadrature:
         wts = (0.5 * (b - a) * wx).ravel()
         self.M0 = M0
         self.kappa = nodes
-        self.weights = wts * 2.0 * np.pi * orbits.phase_space_weight(nodes) * orbits.dJ_dkappa(
-            nodes, M0
+        self.weights = (
+            wts * 2.0 * np.pi * orbits.phase_space_weight(nodes) * orbits.dJ_dkappa(nodes, M0)
         )
 
     def integrate(self, values):
@@ -177,9 +177,9 @@ class CoreHaloState:
     M0 = int cos(theta) f_raw / int f_raw (h depends on M0), f = f_raw / mass is normalised and
     `mass` = int f_raw dtheta dp is kept, since the paper's parameters need not give mass 1.
 
-    For the two-step shape, the paper writes kappa_i = sqrt(mu_i/M0 + 1); with h = M0 (2 kappa^2 - 1)
-    the step sits at kappa_i = sqrt((mu_i/M0 + 1)/2) (eq. hmffch2k is right, the kappa_i below it
-    lacks the factor 1/2).
+    For the two-step shape, the paper writes kappa_i = sqrt(mu_i/M0 + 1); with
+    h = M0 (2 kappa^2 - 1) the step sits at kappa_i = sqrt((mu_i/M0 + 1)/2): eq. hmffch2k is
+    right, the kappa_i below it lacks the factor 1/2.
     """
 
     kind = "core_halo"
@@ -239,7 +239,10 @@ class CoreHaloState:
         return out
 
     def _h_max(self):
-        return max(mu + (40.0 / b if np.isfinite(b) else 0.0) for mu, b in zip(self.mu, self.betas, strict=True))
+        return max(
+            mu + (40.0 / b if np.isfinite(b) else 0.0)
+            for mu, b in zip(self.mu, self.betas, strict=True)
+        )
 
     def _kappa_max(self, M0):
         return float(np.sqrt(max(self._h_max() + M0, 0.0) / (2.0 * M0)) * 1.05 + 0.5)
@@ -247,7 +250,7 @@ class CoreHaloState:
     def _breaks(self, M0):
         br = []
         for mu, b in zip(self.mu, self.betas, strict=True):
-            for d in ([0.0] if not np.isfinite(b) else np.arange(-12, 13) * 1.0 / b):
+            for d in [0.0] if not np.isfinite(b) else np.arange(-12, 13) * 1.0 / b:
                 hh = mu + d
                 if hh > -M0:
                     br.append(np.sqrt((hh + M0) / (2.0 * M0)))
@@ -303,9 +306,9 @@ class CoreHaloState:
 
     @property
     def step_weights(self):
-        """df/dkappa = -sum_i w_i delta(kappa - kappa_i) for the two-step shape, w_i = eta_i / mass.
+        """Weights w_i = eta_i / mass of df/dkappa = -sum_i w_i delta(kappa - kappa_i) (two steps).
 
-        (Eq. partial-ch with delta[M0(kappa_i^2 - kappa^2)] = delta(kappa - kappa_i)/(2 M0 kappa_i).)
+        Eq. partial-ch, with delta[M0(kappa_i^2 - kappa^2)] = delta(kappa - kappa_i)/(2 M0 kappa_i).
         """
         return np.asarray(self.eta) / self.mass
 
@@ -314,23 +317,36 @@ class CoreHaloState:
         return self._kappa_max(self.M0)
 
     def quadrature(self, order=24):
-        return PhaseSpaceQuadrature(self.M0, self.kappa_max, breaks=self._breaks(self.M0), order=order)
+        return PhaseSpaceQuadrature(
+            self.M0, self.kappa_max, breaks=self._breaks(self.M0), order=order
+        )
 
 
 def make_state(spec):
     """Build a state from a config case: {'kind': 'thermal', 'M0' or 'u'} or
-    {'kind': 'core_halo', eta1, eta2, mu1, mu2, beta1, beta2} or {'kind': 'two_step', eta.., mu..}."""
+    {'kind': 'core_halo', eta1, eta2, mu1, mu2, beta1, beta2} or
+    {'kind': 'two_step', eta1, eta2, mu1, mu2}."""
     kind = spec.get("kind")
     if kind == "thermal":
         return ThermalState(M0=spec.get("M0"), u=spec.get("u"))
     if kind == "core_halo":
         return CoreHaloState(
-            spec["eta1"], spec["eta2"], spec["mu1"], spec["mu2"], spec["beta1"], spec["beta2"],
-            shape="fermi", M0_guess=spec.get("M0_guess"),
+            spec["eta1"],
+            spec["eta2"],
+            spec["mu1"],
+            spec["mu2"],
+            spec["beta1"],
+            spec["beta2"],
+            shape="fermi",
+            M0_guess=spec.get("M0_guess"),
         )
     if kind == "two_step":
         return CoreHaloState(
-            spec["eta1"], spec["eta2"], spec["mu1"], spec["mu2"], shape="step",
+            spec["eta1"],
+            spec["eta2"],
+            spec["mu1"],
+            spec["mu2"],
+            shape="step",
             M0_guess=spec.get("M0_guess"),
         )
     raise EquilibriumError(f"kind = {kind!r}: must be 'thermal', 'core_halo' or 'two_step'")

@@ -15,7 +15,6 @@ by FFT of numerically integrated orbits in tests/test_fourier.py:
 from __future__ import annotations
 
 import numpy as np
-from scipy import special
 
 from .orbits import _K_E, _modulus_parameter, nome
 
@@ -36,7 +35,8 @@ def cos_coefficient(n, kappa):
     """c_n(kappa), eq. (hmfcm), broadcasting over n (integers) and kappa.
 
     kappa < 1:  (pi/K)^2 |n| q^{|n|/2} / (1 - q^{|n|}) for even n != 0, 0 for odd n;
-    kappa > 1:  2 kappa^2 (pi/K)^2 |n| q^{|n|} / (1 - q^{2|n|}), with K = K(1/kappa), q = q(1/kappa).
+    kappa > 1:  2 kappa^2 (pi/K)^2 |n| q^{|n|} / (1 - q^{2|n|}),
+                with K = K(1/kappa), q = q(1/kappa).
     """
     n, kappa, m, m1, lib, K, E, q = _parts(n, kappa)
     a = np.abs(n).astype(float)

@@ -208,7 +208,9 @@ def kappa_from_action(J, M0, family):
 
 
 def kappa_from_frequency(omega, M0, family, kappa_max=1e6):
-    """Solve Omega(kappa) = omega on one family (Omega decreases on libration, increases on rotation).
+    """Solve Omega(kappa) = omega on one family.
+
+    Omega decreases with kappa on libration and increases on rotation.
 
     Returns NaN where there is no root (omega >= Omega_0 on libration, omega <= 0).
     """

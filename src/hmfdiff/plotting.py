@@ -27,12 +27,24 @@ plt.rcParams.update({"figure.dpi": 100, "savefig.dpi": 150, "font.size": 9, "axe
 def save_figure(fig, pdf, png, inputs=None, title=""):
     """Save a figure as PDF and PNG atomically, with provenance in the metadata."""
     prov = provenance()
-    sources = {k: {"case": ds.attrs.get("case", ""), "git_revision": ds.attrs.get("git_revision", "")}
-               for k, ds in (inputs or {}).items()}
-    subject = json.dumps({"inputs": sources, "software_versions": json.loads(prov["software_versions"])})
-    meta_pdf = {"Title": title, "Subject": subject, "Keywords": f"git {prov['git_revision']}",
-                "Creator": "hmfdiff"}
-    meta_png = {"Title": title, "Description": subject, "Software": f"hmfdiff git {prov['git_revision']}"}
+    sources = {
+        k: {"case": ds.attrs.get("case", ""), "git_revision": ds.attrs.get("git_revision", "")}
+        for k, ds in (inputs or {}).items()
+    }
+    subject = json.dumps(
+        {"inputs": sources, "software_versions": json.loads(prov["software_versions"])}
+    )
+    meta_pdf = {
+        "Title": title,
+        "Subject": subject,
+        "Keywords": f"git {prov['git_revision']}",
+        "Creator": "hmfdiff",
+    }
+    meta_png = {
+        "Title": title,
+        "Description": subject,
+        "Software": f"hmfdiff git {prov['git_revision']}",
+    }
     with atomic_path(pdf) as tmp:
         fig.savefig(tmp, format="pdf", metadata=meta_pdf)
     with atomic_path(png) as tmp:
@@ -45,7 +57,7 @@ def _M0(inputs):
 
 
 def fig01_orbits(inputs, pdf, png, params=None):
-    """Fig. 1: a librating (kappa < 1), the separatrix (kappa = 1) and a rotating orbit (kappa > 1)."""
+    """Fig. 1: a librating (kappa < 1), the separatrix and a rotating orbit (kappa > 1)."""
     M0 = _M0(inputs)
     fig, ax = plt.subplots(figsize=(4.2, 3.2))
     w = np.linspace(0.0, 2.0 * np.pi, 801)
@@ -62,15 +74,23 @@ def fig01_orbits(inputs, pdf, png, params=None):
     for sign in (1.0, -1.0):
         th, p = orbits.phase_point(w, k_rot, M0, sign)
         order = np.argsort(th)
-        ax.plot(th[order], p[order], "b:", lw=1.8,
-                label=rf"rotating, $\kappa={k_rot}$ ($p>0$ and $p<0$)" if sign > 0 else None)
+        ax.plot(
+            th[order],
+            p[order],
+            "b:",
+            lw=1.8,
+            label=rf"rotating, $\kappa={k_rot}$ ($p>0$ and $p<0$)" if sign > 0 else None,
+        )
     ax.set_xlim(-np.pi, np.pi)
-    ax.set_xticks([-np.pi, -np.pi / 2, 0, np.pi / 2, np.pi],
-                  [r"$-\pi$", r"$-\pi/2$", "0", r"$\pi/2$", r"$\pi$"])
+    ax.set_xticks(
+        [-np.pi, -np.pi / 2, 0, np.pi / 2, np.pi],
+        [r"$-\pi$", r"$-\pi/2$", "0", r"$\pi/2$", r"$\pi$"],
+    )
     ax.set_xlabel(r"angle $\theta$ (rad)")
     ax.set_ylabel(r"momentum $p$")
     ax.set_title(rf"Pendulum orbits, $h=p^2/2-M_0\cos\theta$, $M_0={M0:.4g}$", fontsize=8)
-    ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
+    ax.set_ylim(-1.35 * 2 * np.sqrt(M0) * k_rot, 1.9 * 2 * np.sqrt(M0) * k_rot)
+    ax.legend(fontsize=7, loc="upper center", framealpha=0.95, ncol=1)
     fig.tight_layout()
     save_figure(fig, pdf, png, inputs, "Fig. 1: HMF pendulum orbits")
 
@@ -82,20 +102,32 @@ def fig02_action_frequency(inputs, pdf, png, params=None):
     k = ds["kappa"].values
     lib = k < 1
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(7.0, 3.0))
-    for sel, style, lab in ((lib, "r-", r"librating ($\kappa<1$)"), (~lib, "b-", r"rotating ($\kappa>1$)")):
+    for sel, style, lab in (
+        (lib, "r-", r"librating ($\kappa<1$)"),
+        (~lib, "b-", r"rotating ($\kappa>1$)"),
+    ):
         a1.plot(k[sel], ds["J"].values[sel], style, label=lab)
         a2.plot(ds["J"].values[sel], ds["Omega"].values[sel], style, label=lab)
     a1.axvline(1.0, color="0.6", lw=0.8, ls="--")
     a1.set_xlabel(r"$\kappa$")
     a1.set_ylabel(r"action $J$")
     a1.legend(fontsize=7)
-    a1.set_title(rf"$J$ jumps from $8\sqrt{{M_0}}/\pi$ to $4\sqrt{{M_0}}/\pi$ at $\kappa=1$", fontsize=8)
+    a1.set_title(
+        r"$J$ jumps from $8\sqrt{M_0}/\pi$ to $4\sqrt{M_0}/\pi$ at $\kappa=1$", fontsize=8
+    )
     a2.set_xlabel(r"action $J$")
     a2.set_ylabel(r"frequency $\Omega$")
     a2.axhline(np.sqrt(M0), color="0.6", lw=0.8, ls=":")
-    a2.text(0.02, np.sqrt(M0) * 1.03, r"$\Omega_0=\sqrt{M_0}$", fontsize=7, transform=a2.get_yaxis_transform())
+    a2.text(
+        0.02,
+        np.sqrt(M0) * 1.03,
+        r"$\Omega_0=\sqrt{M_0}$",
+        fontsize=7,
+        transform=a2.get_yaxis_transform(),
+    )
     a2.set_ylim(0, None)
-    ins = a2.inset_axes([0.55, 0.12, 0.4, 0.38])
+    a2.legend(fontsize=7, loc="lower right")
+    ins = a2.inset_axes([0.1, 0.58, 0.36, 0.36])
     ins.plot(k[lib], ds["Omega"].values[lib], "r-")
     ins.plot(k[~lib], ds["Omega"].values[~lib], "b-")
     ins.set_xlabel(r"$\kappa$", fontsize=7, labelpad=1)
@@ -117,15 +149,17 @@ def fig03_poles(inputs, pdf, png, params=None):
     ax.plot(k[k < 1], Om[k < 1], "k-", lw=1.4, label=r"$\Omega(\kappa)$")
     ax.plot(k[k > 1], Om[k > 1], "k-", lw=1.4)
     ax.axvline(1.0, color="0.7", lw=0.8)
-    for nu, ls, lab in ((0.6 * O0, "--", r"$0<\omega/\ell<\Omega_0$: poles $\kappa_1<1$, $\kappa_2>1$"),
-                        (1.5 * O0, "-.", r"$\omega/\ell>\Omega_0$: one pole $\kappa_2>1$")):
+    for nu, ls, lab in (
+        (0.8 * O0, "--", r"$0<\omega/\ell<\Omega_0$: poles $\kappa_1<1$, $\kappa_2>1$"),
+        (1.5 * O0, "-.", r"$\omega/\ell>\Omega_0$: one pole $\kappa_2>1$"),
+    ):
         ax.axhline(nu, ls=ls, color="tab:blue" if ls == "--" else "tab:red", lw=1.1, label=lab)
         k1 = orbits.kappa_from_frequency(nu, M0, "libration")
         k2 = orbits.kappa_from_frequency(nu, M0, "rotation")
-        for kk, name in ((k1, r"$\kappa_1$"), (k2, r"$\kappa_2$")):
+        for kk, name, dx in ((k1, r"$\kappa_1$", -14), (k2, r"$\kappa_2$", 4)):
             if np.isfinite(kk):
                 ax.plot([kk], [nu], "o", color="k", ms=4)
-                ax.annotate(name, (kk, nu), xytext=(3, 4), textcoords="offset points", fontsize=8)
+                ax.annotate(name, (kk, nu), xytext=(dx, 4), textcoords="offset points", fontsize=8)
     ax.set_xlim(0, k.max())
     ax.set_ylim(0, min(Om.max(), 2.6 * O0))
     ax.set_xlabel(r"$\kappa$")

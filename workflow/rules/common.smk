@@ -3,18 +3,18 @@
 import json
 
 
-wildcard_constraints:
-    case="|".join(re.escape(c) for c in CASES),
-
-
 def lib(*modules):
-    """Library files a rule depends on: editing one reruns the rule (scripts import them)."""
+    """Library files imported by a step; editing one of them reruns the step."""
     return [f"src/hmfdiff/{m}.py" for m in modules]
 
 
 def case_spec(wildcards):
-    """The config fragment of one case, as a JSON string (a params change reruns the rule)."""
+    """The config fragment of one case as a JSON string; a change of it reruns the step."""
     return json.dumps(config["cases"][wildcards.case], sort_keys=True)
+
+
+def figure_case(name):
+    return config["figures"][name]["case"]
 
 
 FIGURES = {

@@ -4,12 +4,12 @@ rule equilibrium:
         lib=lib("equilibrium", "orbits", "fourier", "io"),
     output:
         "results/equilibrium/{case}.nc",
-    params:
-        spec=case_spec,
-        grid=lambda w: json.dumps(config["grids"]["equilibrium"], sort_keys=True),
     log:
         "logs/equilibrium/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
+    params:
+        spec=case_spec,
+        grid=lambda w: json.dumps(config["grids"]["equilibrium"], sort_keys=True),
     script:
         "../scripts/equilibrium.py"

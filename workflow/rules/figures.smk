@@ -1,7 +1,3 @@
-def figure_case(name):
-    return config["figures"][name]["case"]
-
-
 rule fig01_orbits:
     """Fig. 1: librating, separatrix and rotating orbits in (theta, p)."""
     input:
@@ -10,12 +6,12 @@ rule fig01_orbits:
     output:
         pdf="results/figures/fig01_orbits.pdf",
         png="results/figures/fig01_orbits.png",
-    params:
-        name="fig01_orbits",
     log:
         "logs/figures/fig01_orbits.log",
     conda:
         "../envs/hmfdiff.yaml"
+    params:
+        name="fig01_orbits",
     script:
         "../scripts/figure.py"
 
@@ -28,12 +24,12 @@ rule fig02_action_frequency:
     output:
         pdf="results/figures/fig02_action_frequency.pdf",
         png="results/figures/fig02_action_frequency.png",
-    params:
-        name="fig02_action_frequency",
     log:
         "logs/figures/fig02_action_frequency.log",
     conda:
         "../envs/hmfdiff.yaml"
+    params:
+        name="fig02_action_frequency",
     script:
         "../scripts/figure.py"
 
@@ -46,12 +42,12 @@ rule fig03_poles:
     output:
         pdf="results/figures/fig03_poles.pdf",
         png="results/figures/fig03_poles.png",
-    params:
-        name="fig03_poles",
     log:
         "logs/figures/fig03_poles.log",
     conda:
         "../envs/hmfdiff.yaml"
+    params:
+        name="fig03_poles",
     script:
         "../scripts/figure.py"
 

@@ -5,11 +5,11 @@ rule orbits:
         lib=lib("orbits", "fourier", "io"),
     output:
         "results/orbits/{case}.nc",
-    params:
-        grid=lambda w: json.dumps(config["grids"]["orbits"], sort_keys=True),
     log:
         "logs/orbits/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
+    params:
+        grid=lambda w: json.dumps(config["grids"]["orbits"], sort_keys=True),
     script:
         "../scripts/orbits.py"

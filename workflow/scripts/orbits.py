@@ -14,4 +14,10 @@ M0 = float(eq["M0"])
 ds = orbits_dataset(M0, grid["n_kappa"], grid["kappa_max"], grid.get("n_max", 6))
 ds.attrs["equilibrium_kind"] = eq.attrs.get("kind", "")
 write_dataset(ds, sm.output[0], {"grid": grid, "M0": M0}, case=sm.wildcards.case)
-log.info("case %s: M0 = %.8f, %d kappa points -> %s", sm.wildcards.case, M0, ds.sizes["kappa"], sm.output[0])
+log.info(
+    "case %s: M0 = %.8f, %d kappa points -> %s",
+    sm.wildcards.case,
+    M0,
+    ds.sizes["kappa"],
+    sm.output[0],
+)
