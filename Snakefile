@@ -2,7 +2,7 @@
 #
 #   snakemake -j2                                   # every target, paper size
 #   snakemake -j2 --configfile config/smoke.yaml    # the same pipeline at toy size
-#   snakemake -j2 fig2                              # one figure (fig1 ... fig3 so far)
+#   snakemake -j2 fig2                              # one figure (fig1 ... fig6 so far)
 #
 # Every intermediate is a netCDF file under results/; see README.md.
 
@@ -34,6 +34,8 @@ wildcard_constraints:
 include: "workflow/rules/common.smk"
 include: "workflow/rules/equilibrium.smk"
 include: "workflow/rules/orbits.smk"
+include: "workflow/rules/theory.smk"
+include: "workflow/rules/analytic.smk"
 include: "workflow/rules/figures.smk"
 
 
@@ -42,4 +44,6 @@ rule all:
     input:
         expand("results/equilibrium/{case}.nc", case=CASES),
         expand("results/orbits/{case}.nc", case=CASES),
+        expand("results/theory/{case}.nc", case=theory_cases()),
+        expand("results/analytic/{case}.nc", case=CASES),
         figure_targets(),

@@ -96,7 +96,7 @@ def check_config(config):
     """Check a whole configuration dictionary; raise ConfigError on the first problem."""
     if not isinstance(config, dict):
         raise ConfigError("config: top level must be a mapping")
-    _require("config", config, ["cases", "grids", "figures"])
+    _require("config", config, ["cases", "grids", "theory", "figures"])
     cases = config["cases"]
     if not isinstance(cases, dict) or not cases:
         raise ConfigError("config: 'cases' must be a non-empty mapping of case name -> state")
@@ -120,11 +120,31 @@ def check_config(config):
         if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 64:
             raise ConfigError(f"grids.orbits: field 'n_max' = {n!r} must be an integer in [1, 64]")
 
+    th = config["theory"]
+    where = "theory"
+    _require(where, th, ["n_kappa", "kappa_min", "kappa_max", "separatrix_band", "n_max", "l_max"])
+    for f, lo in (("n_kappa", 8), ("n_max", 1), ("l_max", 1)):
+        v = th[f]
+        if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+            raise ConfigError(f"{where}: field '{f}' = {v!r} must be an integer >= {lo}")
+    _in_range(where, "kappa_min", th["kappa_min"], 0.0, 1.0)
+    _in_range(where, "kappa_max", th["kappa_max"], 1.0, 1e3)
+    _in_range(
+        where,
+        "separatrix_band",
+        th["separatrix_band"],
+        0.0,
+        0.5,
+        why="half-width of the masked band around kappa = 1",
+    )
+
     for fig, spec in config["figures"].items():
         where = f"figure '{fig}'"
         if not isinstance(spec, dict):
             raise ConfigError(f"{where}: must be a mapping")
-        names = spec.get("cases", [spec["case"]] if "case" in spec else [])
+        names = list(spec.get("cases", [spec["case"]] if "case" in spec else []))
+        names += list(spec.get("core_halo", []))
+        names += [spec[k] for k in ("two_step", "thermal") if k in spec]
         for c in names:
             if c not in cases:
                 raise ConfigError(f"{where}: names case '{c}', which is not in 'cases'")

@@ -53,7 +53,7 @@ def save_figure(fig, pdf, png, inputs=None, title=""):
 
 
 def _M0(inputs):
-    return float(inputs["orbits"]["M0"])
+    return float(inputs["orbits_0"]["M0"])
 
 
 def fig01_orbits(inputs, pdf, png, params=None):
@@ -97,7 +97,7 @@ def fig01_orbits(inputs, pdf, png, params=None):
 
 def fig02_action_frequency(inputs, pdf, png, params=None):
     """Fig. 2: J(kappa) (left); Omega(J) (right), inset Omega(kappa)."""
-    ds = inputs["orbits"]
+    ds = inputs["orbits_0"]
     M0 = _M0(inputs)
     k = ds["kappa"].values
     lib = k < 1
@@ -112,9 +112,7 @@ def fig02_action_frequency(inputs, pdf, png, params=None):
     a1.set_xlabel(r"$\kappa$")
     a1.set_ylabel(r"action $J$")
     a1.legend(fontsize=7)
-    a1.set_title(
-        r"$J$ jumps from $8\sqrt{M_0}/\pi$ to $4\sqrt{M_0}/\pi$ at $\kappa=1$", fontsize=8
-    )
+    a1.set_title(r"$J$ jumps from $8\sqrt{M_0}/\pi$ to $4\sqrt{M_0}/\pi$ at $\kappa=1$", fontsize=8)
     a2.set_xlabel(r"action $J$")
     a2.set_ylabel(r"frequency $\Omega$")
     a2.axhline(np.sqrt(M0), color="0.6", lw=0.8, ls=":")
@@ -140,7 +138,7 @@ def fig02_action_frequency(inputs, pdf, png, params=None):
 
 def fig03_poles(inputs, pdf, png, params=None):
     """Fig. 3: poles of the dielectric integrand, Omega(kappa) = omega/l."""
-    ds = inputs["orbits"]
+    ds = inputs["orbits_0"]
     M0 = _M0(inputs)
     k = ds["kappa"].values
     Om = ds["Omega"].values
@@ -170,8 +168,235 @@ def fig03_poles(inputs, pdf, png, params=None):
     save_figure(fig, pdf, png, inputs, "Fig. 3: poles of the dielectric integrand")
 
 
+def _theories(inputs):
+    return [inputs[k] for k in sorted(k for k in inputs if k.startswith("theory_"))]
+
+
+def _state_label(ds):
+    M0 = float(ds["M0"])
+    cfg = json.loads(ds.attrs.get("config", "{}"))
+    label = rf"$M_0={M0:.4g}$"
+    if "beta" in ds.attrs:
+        u = 0.5 / ds.attrs["beta"] - 0.5 * M0**2
+        label = rf"$(u, M_0)=({u:.4g}, {M0:.4g})$"
+    return f"{ds.attrs.get('case', '')}: {label}" if not cfg else label
+
+
+def _separatrix(ax, vertical=True):
+    (ax.axvline if vertical else ax.axhline)(1.0, color="0.6", lw=0.8, zorder=0)
+
+
+def _merge_same_kappa_star(ds):
+    """Sum the contributions of resonances that share kappa* (the same ratio n'/n on the same
+    branch, e.g. (1, 1) and (2, 2)), so that each point is one resonant orbit kappa*."""
+    from fractions import Fraction
+
+    n = ds["resonance_n"].values
+    npr = ds["resonance_nprime"].values
+    br = ds["resonance_branch"].values
+    keys = [(Fraction(int(b), int(a)), int(c)) for a, b, c in zip(n, npr, br, strict=True)]
+    groups = {}
+    for i, key in enumerate(keys):
+        groups.setdefault(key, []).append(i)
+    ks_all = ds["resonance_kappa_star"].values
+    g_all = ds["gamma_lenard_balescu"].values
+    ks = np.stack([ks_all[:, idx[0]] for idx in groups.values()], axis=1)
+    g = np.stack([np.nansum(g_all[:, idx], axis=1) for idx in groups.values()], axis=1)
+    g[~np.isfinite(ks)] = np.nan
+    return ks, g
+
+
+def fig04_contributions(inputs, pdf, png, params=None):
+    """Fig. 4: normalised contribution gamma(kappa, kappa*)/D_dif(kappa), Lenard-Balescu."""
+    ths = _theories(inputs)
+    fig, axes = plt.subplots(len(ths), 1, figsize=(4.6, 3.0 * len(ths)), squeeze=False)
+    for ax, ds, tag in zip(axes[:, 0], ths, "abcdef", strict=False):
+        k = ds["kappa"].values
+        ks, g = _merge_same_kappa_star(ds)
+        D = ds["D_lenard_balescu"].values
+        frac = g / D[:, None]
+        K = np.broadcast_to(k[:, None], ks.shape)
+        ok = np.isfinite(frac) & np.isfinite(ks) & (frac > 1e-3)
+        order = np.argsort(frac[ok])
+        sc = ax.scatter(
+            K[ok][order],
+            ks[ok][order],
+            c=frac[ok][order],
+            s=4,
+            cmap="viridis",
+            vmin=0,
+            vmax=1,
+            rasterized=True,
+        )
+        _separatrix(ax)
+        _separatrix(ax, vertical=False)
+        ax.set_xlim(0, np.nanmax(k))
+        ax.set_ylim(0, np.nanmax(k))
+        ax.set_xlabel(r"$\kappa$ (test orbit)")
+        ax.set_ylabel(r"$\kappa^\star$ (resonant bath orbit)")
+        ax.set_title(f"({tag}) {_state_label(ds)}", fontsize=8)
+        fig.colorbar(sc, ax=ax, label=r"$\gamma(\kappa,\kappa^\star)/D_{dif}(\kappa)$")
+    fig.suptitle(
+        "Resonance contributions to $D_{dif}$ (Lenard-Balescu), "
+        r"$n\Omega(\kappa)=n'\Omega(\kappa^\star)$",
+        fontsize=8,
+    )
+    fig.tight_layout()
+    save_figure(fig, pdf, png, inputs, "Fig. 4: resonance contributions to D (Lenard-Balescu)")
+
+
+def fig05_dielectric(inputs, pdf, png, params=None):
+    """Fig. 5: eps_cc(omega) (top) and eps_ss(omega) (bottom): real, imaginary parts, modulus."""
+    ds = _theories(inputs)[0]
+    M0 = float(ds["M0"])
+    om = ds["omega"].values
+    fig, axes = plt.subplots(2, 1, figsize=(4.6, 5.4), sharex=True)
+    for ax, comp, name in zip(axes, ("cc", "ss"), ("cosine", "sine"), strict=True):
+        re_, im_ = ds[f"eps_{comp}_real"].values, ds[f"eps_{comp}_imag"].values
+        ax.plot(om, re_, "b-", lw=1.2, label=r"Re $\epsilon$")
+        ax.plot(om, im_, "r--", lw=1.2, label=r"Im $\epsilon$")
+        ax.plot(om, np.hypot(re_, im_), "k:", lw=1.5, label=r"$|\epsilon|$")
+        for m in (1, 2):
+            ax.axvline(m * np.sqrt(M0), color="0.5", lw=0.8)
+        ax.axhline(0, color="0.8", lw=0.6)
+        ax.set_ylabel(rf"$\epsilon_{{{comp}}}(\omega)$ ({name})")
+        ax.legend(fontsize=7, loc="lower right")
+    axes[-1].set_xlabel(
+        r"$\omega$ (vertical lines: $\Omega_0$, $2\Omega_0$; $\Omega_0=\sqrt{M_0}$)"
+    )
+    axes[0].set_title(
+        f"Dielectric tensor, {_state_label(ds)}, "
+        rf"$\ell_{{max}}={ds.attrs.get('l_max', '?')}$",
+        fontsize=8,
+    )
+    fig.tight_layout()
+    save_figure(fig, pdf, png, inputs, "Fig. 5: dielectric tensor")
+
+
+def fig06_landau_lenard_balescu(inputs, pdf, png, params=None):
+    """Fig. 6: N D_dif(kappa), Landau (dashed) vs Lenard-Balescu (solid)."""
+    ths = _theories(inputs)
+    fig, axes = plt.subplots(len(ths), 1, figsize=(4.6, 2.8 * len(ths)), squeeze=False)
+    for ax, ds, tag in zip(axes[:, 0], ths, "abcdef", strict=False):
+        k = ds["kappa"].values
+        ax.semilogy(k, ds["D_lenard_balescu"].values, "r-", lw=1.3, label="Lenard-Balescu")
+        ax.semilogy(k, ds["D_landau"].values, "b--", lw=1.3, label="Landau")
+        _separatrix(ax)
+        ax.set_xlabel(r"$\kappa$")
+        ax.set_ylabel(r"$N D_{dif}(\kappa)$  ($\langle\delta J^2\rangle = 2D\,\delta t$)")
+        ax.set_title(f"({tag}) {_state_label(ds)}", fontsize=8)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    save_figure(fig, pdf, png, inputs, "Fig. 6: diffusion coefficient, Landau vs Lenard-Balescu")
+
+
+def _robust_ylim(ax, arrays, pad=0.25):
+    vals = np.concatenate([np.ravel(a)[np.isfinite(np.ravel(a))] for a in arrays])
+    if vals.size:
+        lo, hi = np.percentile(vals, [1, 99])
+        span = max(hi - lo, 1e-12)
+        ax.set_ylim(lo - pad * span, hi + pad * span)
+
+
+def fig07_closed_forms(inputs, pdf, png, params=None):
+    """Fig. 7: (a-c) smooth core-halo vs the two-step closed form; (d-f) thermal M0 -> 1, numerical
+    vs appendix C: eps_cc, eps_ss and N D_dif (Lenard-Balescu)."""
+    ths = _theories(inputs)
+    smooth, thermal = ths[:-1], ths[-1]
+    step, mb = inputs["analytic_0"], inputs["analytic_1"]
+    fig, axes = plt.subplots(2, 3, figsize=(10.5, 5.6))
+    colors = ["tab:red", "tab:orange", "tab:purple", "tab:brown"]
+    # (a), (b): Re eps of the smooth states and the two-step closed form
+    for j, comp in enumerate(("cc", "ss")):
+        ax = axes[0, j]
+        curves = []
+        for ds, col in zip(smooth, colors, strict=False):
+            y = ds[f"eps_{comp}_real"].values
+            ax.plot(ds["omega"], y, "-", color=col, lw=1.2, label=f"{ds.attrs.get('case', '')}")
+            curves.append(y)
+        ax.plot(
+            step["omega"], step[f"eps_{comp}_real"], "k--", lw=1.0, label="two-step (closed form)"
+        )
+        _robust_ylim(ax, curves)
+        ax.set_xlabel(r"$\omega$")
+        ax.set_ylabel(rf"Re $\epsilon_{{{comp}}}(\omega)$")
+        ax.set_title(f"({'ab'[j]}) core-halo, " + rf"$\epsilon_{{{comp}}}$", fontsize=8)
+        ax.legend(fontsize=6)
+    ax = axes[0, 2]
+    for ds, col in zip(smooth, colors, strict=False):
+        ax.semilogy(
+            ds["kappa"],
+            ds["D_lenard_balescu"],
+            "-",
+            color=col,
+            lw=1.2,
+            label=f"{ds.attrs.get('case', '')} (numerical)",
+        )
+    ax.semilogy(
+        step["kappa"],
+        step["D_lenard_balescu_closed"],
+        "k--",
+        lw=1.0,
+        label=r"two-step, $\kappa^\star=\kappa$",
+    )
+    ax.set_xlim(0, 1)
+    ax.set_xlabel(r"$\kappa$")
+    ax.set_ylabel(r"$N D_{dif}$ (Lenard-Balescu)")
+    ax.set_title("(c) core-halo, diffusion", fontsize=8)
+    ax.legend(fontsize=6)
+    # (d), (e): thermal state, numerical vs appendix C
+    M0 = float(thermal["M0"])
+    for j, comp in enumerate(("cc", "ss")):
+        ax = axes[1, j]
+        for part, style in (("real", "-"), ("imag", "--")):
+            ax.plot(
+                thermal["omega"],
+                thermal[f"eps_{comp}_{part}"],
+                "b" + style,
+                lw=1.2,
+                label=f"numerical, {'Re' if part == 'real' else 'Im'}",
+            )
+            ax.plot(
+                mb["omega"],
+                mb[f"eps_{comp}_{part}"],
+                "k" + style,
+                lw=0.9,
+                alpha=0.7,
+                label=f"appendix C, {'Re' if part == 'real' else 'Im'}",
+            )
+        for m in (1, 2):
+            ax.axvline(m * np.sqrt(M0), color="0.7", lw=0.7)
+        _robust_ylim(ax, [thermal[f"eps_{comp}_real"].values, thermal[f"eps_{comp}_imag"].values])
+        ax.set_xlabel(r"$\omega$")
+        ax.set_ylabel(rf"$\epsilon_{{{comp}}}(\omega)$")
+        ax.set_title(
+            f"({'de'[j]}) thermal $M_0={M0:.3g}$, " + rf"$\epsilon_{{{comp}}}$", fontsize=8
+        )
+        ax.legend(fontsize=6)
+    ax = axes[1, 2]
+    ax.semilogy(thermal["kappa"], thermal["D_lenard_balescu"], "b-", lw=1.2, label="numerical")
+    ax.semilogy(
+        mb["kappa"],
+        mb["D_lenard_balescu_closed"],
+        "k--",
+        lw=1.0,
+        label=r"appendix C, $|n|,|n'|\leq 2$",
+    )
+    ax.set_xlim(0, 1)
+    ax.set_xlabel(r"$\kappa$")
+    ax.set_ylabel(r"$N D_{dif}$ (Lenard-Balescu)")
+    ax.set_title(f"(f) thermal $M_0={M0:.3g}$, diffusion", fontsize=8)
+    ax.legend(fontsize=6)
+    fig.tight_layout()
+    save_figure(fig, pdf, png, inputs, "Fig. 7: closed forms against the numerical theory")
+
+
 FIGURES = {
     "fig01_orbits": fig01_orbits,
     "fig02_action_frequency": fig02_action_frequency,
     "fig03_poles": fig03_poles,
+    "fig04_contributions": fig04_contributions,
+    "fig05_dielectric": fig05_dielectric,
+    "fig06_landau_lenard_balescu": fig06_landau_lenard_balescu,
+    "fig07_closed_forms": fig07_closed_forms,
 }

@@ -7,6 +7,6 @@ from hmfdiff.runtime import get_logger
 sm = snakemake  # noqa: F821
 name = sm.params.name
 log = get_logger(name, sm.log[0])
-inputs = {k: read_dataset(v) for k, v in sm.input.items() if str(v).endswith(".nc")}
+inputs = {k: read_dataset(v) for k, v in sm.input.items() if k != "lib"}
 FIGURES[name](inputs, pdf=sm.output.pdf, png=sm.output.png, params=dict(sm.params))
 log.info("wrote %s and %s", sm.output.pdf, sm.output.png)

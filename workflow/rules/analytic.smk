@@ -1,0 +1,15 @@
+rule closed_forms:
+    """The paper's closed forms for one case: sech^4 Landau D, two-step and appendix-C eps and D."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        lib=lib("analytic", "datasets", "equilibrium", "orbits", "fourier", "io"),
+    output:
+        "results/analytic/{case}.nc",
+    log:
+        "logs/analytic/{case}.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    params:
+        grid=lambda w: json.dumps(config["closed_forms"], sort_keys=True),
+    script:
+        "../scripts/closed_forms.py"

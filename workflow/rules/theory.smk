@@ -1,0 +1,29 @@
+rule theory:
+    """Dielectric tensor, Landau and Lenard-Balescu N*D_dif and N*D_pol, resonance contributions."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        lib=lib(
+            "theory",
+            "dielectric",
+            "diffusion",
+            "resonances",
+            "equilibrium",
+            "orbits",
+            "fourier",
+            "datasets",
+            "io",
+        ),
+    output:
+        "results/theory/{case}.nc",
+    log:
+        "logs/theory/{case}.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=30,
+    params:
+        grid=lambda w: json.dumps(config["theory"], sort_keys=True),
+    script:
+        "../scripts/theory.py"

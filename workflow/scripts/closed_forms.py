@@ -1,0 +1,21 @@
+"""Rule closed_forms: the paper's analytic results for one case (results/analytic/{case}.nc)."""
+
+import json
+
+from hmfdiff.datasets import closed_forms_dataset, state_from_dataset
+from hmfdiff.io import read_dataset, write_dataset
+from hmfdiff.runtime import get_logger
+
+sm = snakemake  # noqa: F821
+log = get_logger("closed_forms", sm.log[0])
+grid = json.loads(sm.params.grid)
+state = state_from_dataset(read_dataset(sm.input.equilibrium, required=["M0"]))
+ds = closed_forms_dataset(state, **grid)
+write_dataset(ds, sm.output[0], {"closed_forms": grid, "M0": state.M0}, case=sm.wildcards.case)
+log.info(
+    "case %s (M0 = %.6f): %s -> %s",
+    sm.wildcards.case,
+    state.M0,
+    ds.attrs["dielectric_method"],
+    sm.output[0],
+)
