@@ -36,6 +36,7 @@ include: "workflow/rules/equilibrium.smk"
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/theory.smk"
 include: "workflow/rules/analytic.smk"
+include: "workflow/rules/md.smk"
 include: "workflow/rules/figures.smk"
 
 
@@ -46,4 +47,5 @@ rule all:
         expand("results/orbits/{case}.nc", case=CASES),
         expand("results/theory/{case}.nc", case=theory_cases()),
         expand("results/analytic/{case}.nc", case=CASES),
+        "results/validation.csv",
         figure_targets(),

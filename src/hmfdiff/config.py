@@ -92,6 +92,90 @@ def check_case(name, spec):
         )
 
 
+_MD_KEYS = (
+    "dt",
+    "t_equilibrate",
+    "t_max",
+    "sample_every",
+    "max_lag",
+    "origin_every",
+    "n_blocks",
+    "threads",
+    "kappa_max",
+    "n_bins",
+    "n_test_bath",
+    "n_test_full",
+    "seeds",
+    "fit_window",
+    "min_particles",
+    "separatrix_band_fit",
+)
+
+
+def _int_at_least(where, field, value, lo):
+    if isinstance(value, bool) or not isinstance(value, int) or value < lo:
+        raise ConfigError(f"{where}: field '{field}' = {value!r} must be an integer >= {lo}")
+
+
+def _check_md(config):
+    """MD section: every run's settings (defaults merged with the run's own) are checked."""
+    md = config.get("md")
+    if md is None:
+        raise ConfigError("config: missing required field(s) ['md']")
+    runs = md.get("runs")
+    if not isinstance(runs, dict):
+        raise ConfigError("md: field 'runs' must be a mapping of case name -> run settings")
+    for case, run in runs.items():
+        where = f"md run '{case}'"
+        if case not in config["cases"]:
+            raise ConfigError(f"{where}: names case '{case}', which is not in 'cases'")
+        if config["cases"][case]["kind"] == "two_step":
+            raise ConfigError(f"{where}: a two-step state has no smooth f to sample MD from")
+        s = {k: md[k] for k in _MD_KEYS if k in md}
+        s.update(run or {})
+        missing = [k for k in ("n_particles", *_MD_KEYS) if k not in s]
+        if missing:
+            raise ConfigError(f"{where}: missing required field(s) {missing}")
+        _int_at_least(where, "n_particles", s["n_particles"], 1)
+        for f, lo in (
+            ("n_test_bath", 1),
+            ("n_test_full", 0),
+            ("seeds", 1),
+            ("n_bins", 1),
+            ("n_blocks", 1),
+            ("threads", 1),
+            ("min_particles", 0),
+        ):
+            _int_at_least(where, f, s[f], lo)
+        for f in ("dt", "t_max", "sample_every", "max_lag", "origin_every", "kappa_max"):
+            _in_range(where, f, s[f], 0.0, math.inf)
+        _in_range(where, "t_equilibrate", s["t_equilibrate"], 0.0, math.inf, lo_open=False)
+        if s["max_lag"] > s["t_max"]:
+            raise ConfigError(f"{where}: max_lag = {s['max_lag']} exceeds t_max = {s['t_max']}")
+        w = s["fit_window"]
+        if not isinstance(w, list | tuple) or len(w) != 2:
+            raise ConfigError(f"{where}: field 'fit_window' = {w!r} must be [t_min, t_max]")
+        t0 = _in_range(where, "fit_window[0]", w[0], 0.0, math.inf, lo_open=False)
+        t1 = _number(where, "fit_window[1]", w[1])
+        if not t0 < t1 <= s["max_lag"]:
+            raise ConfigError(
+                f"{where}: field 'fit_window' = {list(w)} must satisfy 0 <= t_min < t_max <= "
+                f"max_lag = {s['max_lag']} (the fit needs measured lags; the run is "
+                f"t_max = {s['t_max']} long)"
+            )
+        for f, base in (
+            ("sample_every", "dt"),
+            ("max_lag", "sample_every"),
+            ("origin_every", "sample_every"),
+            ("t_max", "sample_every"),
+        ):
+            ratio = s[f] / s[base]
+            if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio):
+                raise ConfigError(
+                    f"{where}: field '{f}' = {s[f]} must be a whole multiple of {base} = {s[base]}"
+                )
+
+
 def check_config(config):
     """Check a whole configuration dictionary; raise ConfigError on the first problem."""
     if not isinstance(config, dict):
@@ -137,6 +221,8 @@ def check_config(config):
         0.5,
         why="half-width of the masked band around kappa = 1",
     )
+
+    _check_md(config)
 
     for fig, spec in config["figures"].items():
         where = f"figure '{fig}'"

@@ -391,6 +391,114 @@ def fig07_closed_forms(inputs, pdf, png, params=None):
     save_figure(fig, pdf, png, inputs, "Fig. 7: closed forms against the numerical theory")
 
 
+def _fits(inputs, dyn):
+    keys = sorted(k for k in inputs if k.startswith(f"fit_{dyn}_"))
+    return [inputs[k] for k in keys]
+
+
+def fig08_dj2(inputs, pdf, png, params=None):
+    """Fig. 8: <dJ^2>(dt) for several J0 (MD(full)), points, with the linear fits."""
+    fits = _fits(inputs, "full")
+    fig, axes = plt.subplots(1, len(fits), figsize=(4.2 * len(fits), 3.3), squeeze=False)
+    for ax, fit, tag in zip(axes[0], fits, "abcdef", strict=False):
+        lag = fit["lag"].values
+        N = float(fit.attrs["N"])
+        w0, w1 = fit.attrs["fit_window"]
+        good = np.flatnonzero((fit["flag"].values == 0) & np.isfinite(fit["ND_md"].values))
+        pick = (
+            good[np.linspace(0, good.size - 1, min(4, good.size)).astype(int)] if good.size else []
+        )
+        step = max(1, lag.size // 40)
+        for i, col in zip(pick, plt.cm.viridis(np.linspace(0, 0.85, len(pick))), strict=False):
+            y = fit["msd"].values[i]
+            ax.plot(
+                lag[::step],
+                y[::step],
+                "o",
+                ms=3,
+                color=col,
+                label=rf"$J_0={float(fit['J0'][i]):.3g}$ ($\kappa_0={float(fit['kappa0'][i]):.2f}$)",
+            )
+            slope = 2.0 * float(fit["ND_md"][i]) / N
+            x = np.linspace(0, lag.max(), 50)
+            ax.plot(x, slope * x + float(fit["intercept"][i]), "--", color=col, lw=0.8)
+            xs = np.linspace(w0, w1, 20)
+            ax.plot(xs, slope * xs + float(fit["intercept"][i]), "-", color=col, lw=1.4)
+        ax.axvspan(w0, w1, color="0.92", zorder=0)
+        ax.set_xlabel(r"$\Delta t$")
+        ax.set_ylabel(r"$\langle\delta J^2\rangle(\Delta t)$")
+        ax.set_title(
+            rf"({tag}) MD(full), $M_0={float(fit['M0']):.4g}$, $N={N:.3g}$; "
+            rf"fit on $[{w0:g}, {w1:g}]$ (shaded)",
+            fontsize=8,
+        )
+        ax.legend(fontsize=6.5)
+    fig.tight_layout()
+    save_figure(fig, pdf, png, inputs, "Fig. 8: mean square action displacement and linear fits")
+
+
+def _md_vs_theory(inputs, pdf, png, title):
+    n = len([k for k in inputs if k.startswith("theory_")])
+    fig, axes = plt.subplots(2, n, figsize=(4.0 * n, 6.0), squeeze=False)
+    rows = (
+        ("bath", "D_landau", "MD(bath)", "Landau"),
+        ("full", "D_lenard_balescu", "MD(full)", "Lenard-Balescu"),
+    )
+    for j in range(n):
+        th = inputs[f"theory_{j}"]
+        M0 = float(th["M0"])
+        jsep = orbits.action_separatrix(M0, +1)
+        for r, (dyn, var, md_label, th_label) in enumerate(rows):
+            ax = axes[r, j]
+            fit = inputs[f"fit_{dyn}_{j}"]
+            ax.semilogy(th["Jbar"], th[var], "k-", lw=1.2, label=th_label)
+            x = fit["jbar0"].values
+            y = fit["ND_md"].values
+            e = fit["ND_md_err"].values
+            ok = (fit["flag"].values == 0) & np.isfinite(y) & (y > 0)
+            ax.errorbar(
+                x[ok],
+                y[ok],
+                yerr=np.where(np.isfinite(e[ok]), e[ok], 0),
+                fmt="o",
+                ms=3.5,
+                color="tab:red" if dyn == "full" else "tab:blue",
+                capsize=2,
+                label=f"{md_label}, N={float(fit.attrs['N']):.3g}, "
+                f"{int(fit.attrs['n_seeds'])} seeds",
+            )
+            bad = ~ok & np.isfinite(y) & (y > 0)
+            if bad.any():
+                ax.plot(
+                    x[bad],
+                    y[bad],
+                    "o",
+                    mfc="none",
+                    ms=3.5,
+                    color="0.5",
+                    label="flagged bins (few particles / separatrix)",
+                )
+            ax.axvline(jsep, color="0.6", lw=0.9)
+            ax.set_xlabel(r"$\bar J$ ($J/2$ for $\kappa<1$)")
+            ax.set_ylabel(r"$N D_{dif}$")
+            ax.set_xlim(0, np.nanmax(fit["jbar0"].values) * 1.05)
+            ax.set_title(f"({'abcdef'[j]}) {_state_label(th)}", fontsize=8)
+            ax.legend(fontsize=6)
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    save_figure(fig, pdf, png, inputs, title)
+
+
+def fig09_md_thermal(inputs, pdf, png, params=None):
+    """Fig. 9: N D from MD vs theory for thermal states (top: bath/Landau; bottom: full/LB)."""
+    _md_vs_theory(inputs, pdf, png, "Fig. 9: diffusion from MD vs kinetic theory, thermal states")
+
+
+def fig10_md_corehalo(inputs, pdf, png, params=None):
+    """Fig. 10: the same for the core-halo state ch2*."""
+    _md_vs_theory(inputs, pdf, png, "Fig. 10: diffusion from MD vs kinetic theory, core-halo")
+
+
 FIGURES = {
     "fig01_orbits": fig01_orbits,
     "fig02_action_frequency": fig02_action_frequency,
@@ -399,4 +507,7 @@ FIGURES = {
     "fig05_dielectric": fig05_dielectric,
     "fig06_landau_lenard_balescu": fig06_landau_lenard_balescu,
     "fig07_closed_forms": fig07_closed_forms,
+    "fig08_dj2": fig08_dj2,
+    "fig09_md_thermal": fig09_md_thermal,
+    "fig10_md_corehalo": fig10_md_corehalo,
 }

@@ -1,0 +1,337 @@
+"""Diffusion coefficients from molecular dynamics: fits of <dJ^2>(dt) and comparison with theory.
+
+D_MD(J0) is half the slope of <dJ^2>(dt) over a fit window (eq. hmfmddif), fitted with a free
+intercept (the short-lag, oscillatory part of <dJ^2> does not start at zero).  The displacement
+is measured in the rescaled action J-bar (continuous across the separatrix) and converted to J:
+J = 2 J-bar on librating orbits, so D_J = 4 D_Jbar there and D_J = D_Jbar on rotating orbits.
+For a particle that stays in its orbit family this is identical to measuring J directly; a
+particle that crosses the separatrix adds a bounded displacement instead of the jump of J.
+
+Seeds (independent realisations of the bath) are pooled by adding their sums and counts; the
+standard error comes from the spread of the per-seed slopes, or, with a single seed, from the
+spread between blocks of time origins (which shares one bath realisation and so underestimates
+the error: the method is recorded in the attributes).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from . import orbits
+
+__all__ = ["FitError", "fit_slope", "diffusion_fit", "theory_at_bins", "validation_rows"]
+
+#: flag values of the fitted bins
+FLAGS = {0: "ok", 1: "too few particles", 2: "within the separatrix band", 3: "no data in window"}
+
+
+class FitError(ValueError):
+    """An impossible fit request (window outside the lags, no seeds ...)."""
+
+
+def fit_slope(lag, msd, window):
+    """Least-squares slope and intercept of msd(lag) over lag in [window[0], window[1]].
+
+    msd may have leading dimensions; the fit runs along the last axis.  Returns (slope,
+    intercept) with NaN where fewer than 3 finite points lie in the window.
+    """
+    lag = np.asarray(lag, dtype=float)
+    msd = np.asarray(msd, dtype=float)
+    sel = (lag >= window[0]) & (lag <= window[1])
+    x = lag[sel]
+    y = msd[..., sel]
+    ok = np.isfinite(y)
+    n = ok.sum(-1)
+    xm = np.where(ok, x, 0.0)
+    ym = np.where(ok, y, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mx = xm.sum(-1) / n
+        my = ym.sum(-1) / n
+        sxx = (np.where(ok, (x - mx[..., None]) ** 2, 0.0)).sum(-1)
+        sxy = (np.where(ok, (x - mx[..., None]) * (y - my[..., None]), 0.0)).sum(-1)
+        slope = sxy / sxx
+        intercept = my - slope * mx
+    bad = n < 3
+    return np.where(bad, np.nan, slope), np.where(bad, np.nan, intercept)
+
+
+def _action_jacobian_sq(jbar0, M0):
+    """(dJ/dJbar)^2 at each bin centre: 4 on librating orbits, 1 on rotating ones."""
+    return np.where(np.asarray(jbar0) < orbits.action_separatrix(M0, +1), 4.0, 1.0)
+
+
+def kappa_of_jbar(jbar, M0):
+    """kappa of the orbit with rescaled action J-bar (J-bar = J/2 below the separatrix)."""
+    jbar = np.asarray(jbar, dtype=float)
+    js = orbits.action_separatrix(M0, +1)  # 4 sqrt(M0)/pi, J-bar at the separatrix
+    lib = jbar < js
+    out = np.empty_like(jbar)
+    if lib.any():
+        out[lib] = orbits.kappa_from_action(2.0 * jbar[lib], M0, "libration")
+    if (~lib).any():
+        out[~lib] = orbits.kappa_from_action(jbar[~lib], M0, "rotation")
+    return out
+
+
+def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
+    """Fit N*D_MD per J-bar_0 bin from MD datasets of one case and dynamics (one per seed).
+
+    window: (t_min, t_max) of the linear fit.  Returns a Dataset with N*D per bin (`ND_md`), its
+    standard error (`ND_md_err`), the per-seed values, the pooled <dJ^2>(lag) in J units, the
+    number of particles per bin, kappa0 and a `flag` per bin (see FLAGS).
+    """
+    if not datasets:
+        raise FitError("no MD datasets to fit")
+    ref = datasets[0]
+    lag = ref["lag"].values
+    if window[0] >= window[1]:
+        raise FitError(f"fit window {window}: t_min must be below t_max")
+    if window[1] > lag.max() + 1e-9 or window[0] < 0:
+        raise FitError(
+            f"fit window {tuple(window)} lies outside the measured lags [0, {lag.max():g}]: "
+            "shorten the window or raise md.max_lag"
+        )
+    for ds in datasets[1:]:
+        if not (
+            np.array_equal(ds["lag"].values, lag)
+            and np.array_equal(ds["jbar_edges"].values, ref["jbar_edges"].values)
+        ):
+            raise FitError("MD datasets of one fit must share lags and bin edges")
+    N = float(ref.attrs["N"])
+    M0 = float(ref.attrs["M0_actions"]) if "M0_actions" in ref.attrs else float(ref["M0"])
+    jbar0 = ref["jbar0"].values
+    jac = _action_jacobian_sq(jbar0, M0)
+
+    def msd(sum_, count):
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(count > 0, sum_ / count, np.nan)
+
+    s = sum(ds["sum_dJbar2"].values for ds in datasets)
+    c = sum(ds["count"].values for ds in datasets)
+    msd_pooled = msd(s, c) * jac[:, None]
+    slope, intercept = fit_slope(lag, msd_pooled, window)
+    ND = 0.5 * slope * N
+
+    if len(datasets) >= 2:
+        per = np.stack(
+            [
+                0.5
+                * N
+                * fit_slope(
+                    lag, msd(ds["sum_dJbar2"].values, ds["count"].values) * jac[:, None], window
+                )[0]
+                for ds in datasets
+            ]
+        )
+        method = f"standard error of the mean over {len(datasets)} independent seeds"
+    else:
+        blk = ref["sum_dJbar2_block"].values  # (bin, lag, block)
+        cb = ref["count_block"].values
+        per = np.stack(
+            [
+                0.5 * N * fit_slope(lag, msd(blk[..., b], cb[..., b]) * jac[:, None], window)[0]
+                for b in range(blk.shape[-1])
+            ]
+        )
+        method = (
+            f"standard error over {blk.shape[-1]} blocks of time origins of one seed "
+            "(one bath realisation: underestimates the error)"
+        )
+    n_ok = np.isfinite(per).sum(0)
+    with np.errstate(invalid="ignore"):
+        err = np.nanstd(per, axis=0, ddof=1) / np.sqrt(n_ok)
+    err = np.where(n_ok >= 2, err, np.nan)
+
+    n_part = sum(ds["n_particles_in_bin"].values for ds in datasets)
+    kappa0 = kappa_of_jbar(jbar0, M0)
+    flag = np.zeros(jbar0.size, dtype=np.int8)
+    flag[n_part < min_particles] = 1
+    flag[np.abs(kappa0 - 1.0) < separatrix_band] = 2
+    flag[~np.isfinite(ND)] = 3
+
+    seeds = [int(ds.attrs.get("seed", i)) for i, ds in enumerate(datasets)]
+    out = xr.Dataset(
+        {
+            "ND_md": (
+                "bin",
+                ND,
+                {
+                    "units": "action^2/time",
+                    "long_name": "N D_MD = N slope/2 of <dJ^2>(dt) (eq. hmfmddif), J units",
+                },
+            ),
+            "ND_md_err": (
+                "bin",
+                err,
+                {
+                    "units": "action^2/time",
+                    "long_name": "standard error of ND_md",
+                    "method": method,
+                },
+            ),
+            "ND_md_seed": (
+                ("seed", "bin"),
+                per if len(datasets) >= 2 else np.full((len(datasets), jbar0.size), np.nan),
+                {"units": "action^2/time", "long_name": "N D_MD of each seed"},
+            ),
+            "intercept": (
+                "bin",
+                intercept,
+                {"units": "action^2", "long_name": "intercept of the linear fit"},
+            ),
+            "msd": (
+                ("bin", "lag"),
+                msd_pooled,
+                {
+                    "units": "action^2",
+                    "long_name": "<dJ^2>(dt) pooled over seeds, J units "
+                    "(4 <dJbar^2> below the separatrix)",
+                },
+            ),
+            "n_particles_in_bin": (
+                "bin",
+                n_part,
+                {"units": "1", "long_name": "tracked particles per bin, all seeds"},
+            ),
+            "kappa0": ("bin", kappa0, {"units": "1", "long_name": "kappa at the bin centre"}),
+            "J0": (
+                "bin",
+                orbits.action(kappa0, M0),
+                {"units": "action", "long_name": "action J at the bin centre"},
+            ),
+            "flag": (
+                "bin",
+                flag,
+                {
+                    "units": "1",
+                    "long_name": "bin quality",
+                    "flag_values": " ".join(map(str, FLAGS)),
+                    "flag_meanings": "; ".join(FLAGS.values()),
+                },
+            ),
+            "M0": ((), M0, {"units": "1", "long_name": "magnetisation used for the actions"}),
+        },
+        coords={
+            "jbar0": ("bin", jbar0, {"units": "action", "long_name": "bin centre, J-bar_0"}),
+            "lag": ("lag", lag, {"units": "time", "long_name": "time lag dt"}),
+            "seed": ("seed", seeds),
+        },
+    )
+    out.attrs.update(
+        fit_window=list(map(float, window)),
+        N=N,
+        n_seeds=len(datasets),
+        min_particles=int(min_particles),
+        separatrix_band=float(separatrix_band),
+        error_method=method,
+        dynamics=str(ref.attrs.get("dynamics", "")),
+        D_convention="<dJ^2> = 2 D dt; N*D stored",
+    )
+    return out
+
+
+def theory_at_bins(theory, kappa0, dynamics):
+    """N*D of the theory at kappa0: Landau for MD(bath), Lenard-Balescu for MD(full).
+
+    Interpolates log(N D) linearly in kappa on the theory grid within each orbit family; NaN in
+    the masked separatrix band or outside the grid.
+    """
+    name = {"bath": "D_landau", "full": "D_lenard_balescu"}[dynamics]
+    k = theory["kappa"].values
+    D = theory[name].values
+    out = np.full(np.shape(kappa0), np.nan)
+    for fam in (k < 1, k > 1):
+        kk, dd = k[fam], D[fam]
+        ok = np.isfinite(dd) & (dd > 0)
+        kk, dd = kk[ok], dd[ok]
+        if kk.size < 2:
+            continue
+        sel = (kappa0 >= kk.min()) & (kappa0 <= kk.max())
+        out[sel] = np.exp(np.interp(kappa0[sel], kk, np.log(dd)))
+    return out
+
+
+def validation_rows(case, fit, theory):
+    """Rows of results/validation.csv for one case and dynamics."""
+    dyn = fit.attrs["dynamics"]
+    th = theory_at_bins(theory, fit["kappa0"].values, dyn)
+    nd, err = fit["ND_md"].values, fit["ND_md_err"].values
+    rows = []
+    for i in range(fit.sizes["bin"]):
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = nd[i] / th[i]
+            z = (nd[i] - th[i]) / err[i]
+        rows.append(
+            {
+                "case": case,
+                "dynamics": dyn,
+                "M0": float(fit["M0"]),
+                "J0": float(fit["J0"].values[i]),
+                "kappa0": float(fit["kappa0"].values[i]),
+                "n_particles_in_bin": int(fit["n_particles_in_bin"].values[i]),
+                "ND_md": float(nd[i]),
+                "ND_md_err": float(err[i]),
+                "ND_theory": float(th[i]),
+                "ratio": float(ratio),
+                "z": float(z),
+                "flag": int(fit["flag"].values[i]),
+            }
+        )
+    return rows
+
+
+VALIDATION_COLUMNS = [
+    "case",
+    "dynamics",
+    "M0",
+    "J0",
+    "kappa0",
+    "n_particles_in_bin",
+    "ND_md",
+    "ND_md_err",
+    "ND_theory",
+    "ratio",
+    "z",
+    "flag",
+]
+
+
+def write_validation_csv(rows, path):
+    """Write the validation rows as CSV, atomically."""
+    import csv
+
+    from .io import atomic_path
+
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=VALIDATION_COLUMNS)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+
+
+def summarise_validation(rows):
+    """Per case and dynamics: bins used (flag 0, finite theory), median |ratio - 1|, |z| < 2."""
+    lines = ["case dynamics theory: bins_used  median|ratio-1|  fraction|z|<2"]
+    keys = []
+    for r in rows:
+        if (r["case"], r["dynamics"]) not in keys:
+            keys.append((r["case"], r["dynamics"]))
+    for case, dyn in keys:
+        sel = [
+            r
+            for r in rows
+            if r["case"] == case
+            and r["dynamics"] == dyn
+            and r["flag"] == 0
+            and np.isfinite(r["ratio"])
+        ]
+        theory = "Landau" if dyn == "bath" else "Lenard-Balescu"
+        if not sel:
+            lines.append(f"{case} {dyn} vs {theory}: no usable bins")
+            continue
+        dev = np.median([abs(r["ratio"] - 1) for r in sel])
+        zs = np.array([r["z"] for r in sel])
+        frac = np.mean(np.abs(zs[np.isfinite(zs)]) < 2) if np.isfinite(zs).any() else np.nan
+        lines.append(f"{case} {dyn} vs {theory}: {len(sel)}  {dev:.3f}  {frac:.2f}")
+    return "\n".join(lines)

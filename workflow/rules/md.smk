@@ -1,0 +1,62 @@
+rule md:
+    """One MD realisation (seed): MD(bath) or MD(full), with <dJ^2> accumulated on the fly."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        lib=lib("md", "sampling", "orbits", "equilibrium", "datasets", "io"),
+    output:
+        "results/md/{case}/{dynamics}/seed{seed}.nc",
+    log:
+        "logs/md/{case}/{dynamics}/seed{seed}.log",
+    wildcard_constraints:
+        dynamics="bath|full",
+        seed=r"\d+",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: config["md"]["threads"]
+    resources:
+        mem_mb=lambda w: md_mem_mb(w.case, w.dynamics),
+        runtime=lambda w: md_runtime_min(w.case, w.dynamics),
+    params:
+        run=lambda w: json.dumps(
+            md_run(w.case, w.dynamics, int(w.seed)), sort_keys=True
+        ),
+    script:
+        "../scripts/md.py"
+
+
+rule fit:
+    """N*D_MD per J-bar_0 bin: half the slope of <dJ^2>(dt), pooled over seeds."""
+    input:
+        seeds=lambda w: md_files(w.case, w.dynamics),
+        lib=lib("fits", "orbits", "io"),
+    output:
+        "results/fits/{case}_{dynamics}.nc",
+    log:
+        "logs/fits/{case}_{dynamics}.log",
+    wildcard_constraints:
+        dynamics="bath|full",
+    conda:
+        "../envs/hmfdiff.yaml"
+    params:
+        fit=lambda w: json.dumps(md_fit_spec(w.case), sort_keys=True),
+    script:
+        "../scripts/fit.py"
+
+
+rule validation:
+    """results/validation.csv: MD against theory per case, dynamics and bin, and a summary."""
+    input:
+        fits=[f"results/fits/{c}_{d}.nc" for c in md_cases() for d in ("bath", "full")],
+        theory=[f"results/theory/{c}.nc" for c in md_cases() for d in ("bath", "full")],
+        lib=lib("fits", "io"),
+    output:
+        table="results/validation.csv",
+        summary="results/validation_summary.txt",
+    log:
+        "logs/validation.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    params:
+        cases=[c for c in md_cases() for d in ("bath", "full")],
+    script:
+        "../scripts/validation.py"
