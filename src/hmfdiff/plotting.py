@@ -417,7 +417,8 @@ def fig08_dj2(inputs, pdf, png, params=None):
                 "o",
                 ms=3,
                 color=col,
-                label=rf"$J_0={float(fit['J0'][i]):.3g}$ ($\kappa_0={float(fit['kappa0'][i]):.2f}$)",
+                label=rf"$J_0={float(fit['J0'][i]):.3g}$ "
+                rf"($\kappa_0={float(fit['kappa0'][i]):.2f}$)",
             )
             slope = 2.0 * float(fit["ND_md"][i]) / N
             x = np.linspace(0, lag.max(), 50)
