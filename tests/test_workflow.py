@@ -1,11 +1,13 @@
 """The pipeline end to end on config/smoke.yaml, in a temporary copy of the workflow."""
 
+import csv
 import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -70,10 +72,49 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
             workdir / f"results/orbits/{case}.nc", required=["J", "Omega", "c", "sigma"]
         )
         assert float(orb["M0"]) == float(eq["M0"])
-    for name in ("fig01_orbits", "fig02_action_frequency", "fig03_poles"):
+    for case in smoke["md"]["runs"]:
+        for dyn in ("bath", "full"):
+            fit = read_dataset(workdir / f"results/fits/{case}_{dyn}.nc", required=["ND_md"])
+            assert fit.attrs["n_seeds"] == smoke["md"]["seeds"]
+            assert np.isfinite(fit["ND_md"].values).any()
+        th = read_dataset(workdir / f"results/theory/{case}.nc", required=["D_landau"])
+        for v in ("D_landau", "D_lenard_balescu", "Dpol_landau", "Dpol_lenard_balescu"):
+            vals = th[v].values[th["separatrix_mask"].values == 0]
+            assert np.all(np.isfinite(vals)), v  # no NaN/inf outside the masked band
+    with open(workdir / "results/validation.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == [
+        "case",
+        "dynamics",
+        "M0",
+        "J0",
+        "kappa0",
+        "n_particles_in_bin",
+        "ND_md",
+        "ND_md_err",
+        "ND_theory",
+        "ratio",
+        "z",
+        "flag",
+    ]
+    assert {r["dynamics"] for r in rows} == {"bath", "full"}
+    for name in (
+        "fig01_orbits",
+        "fig02_action_frequency",
+        "fig03_poles",
+        "fig04_contributions",
+        "fig05_dielectric",
+        "fig06_landau_lenard_balescu",
+        "fig07_closed_forms",
+        "fig08_dj2",
+        "fig09_md_thermal",
+        "fig10_md_corehalo",
+    ):
         for ext in ("pdf", "png"):
             path = workdir / f"results/figures/{name}.{ext}"
             assert path.stat().st_size > 5000
+        pdf = (workdir / f"results/figures/{name}.pdf").read_bytes()
+        assert b"software_versions" in pdf and b"git_revision" in pdf  # provenance metadata
     # no temporary part-files left behind
     assert not list((workdir / "results").rglob("*.part"))
 
@@ -89,7 +130,15 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
     r = snakemake(["-n", "--configfile", "config/edited.yaml"], workdir, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     counts = job_counts(r.stdout + r.stderr)
-    assert counts == {"equilibrium": 1, "orbits": 1, "all": 1}, counts
+    # thermal_M0.9 feeds fig. 4 and fig. 7 in the smoke config, nothing else
+    assert counts == {
+        "equilibrium": 1,
+        "orbits": 1,
+        "theory": 1,
+        "closed_forms": 1,
+        "figure": 2,
+        "all": 1,
+    }, counts
 
     # editing the library a rule imports reruns the rules that depend on it (Snakemake compares
     # checksums, so a bare touch without a change of content rightly reruns nothing)
@@ -97,7 +146,32 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
         fh.write("\n# edited by test_workflow\n")
     r = snakemake(["-n", "--configfile", "config/smoke.yaml"], workdir, timeout=300)
     counts = job_counts(r.stdout + r.stderr)
-    assert counts.get("fig01_orbits") == 1 and "equilibrium" not in counts, counts
+    assert counts == {"figure": 10, "all": 1}, counts
+
+
+def test_html_report(workdir):
+    r = snakemake(
+        ["--report", "report.html", "--configfile", "config/smoke.yaml"], workdir, timeout=600
+    )
+    assert r.returncode == 0, r.stderr[-3000:]
+    html = (workdir / "report.html").read_text(errors="replace")
+    assert "fig09_md_thermal" in html and "validation.csv" in html
+
+
+def test_slurm_profile_dry_run(workdir):
+    """The cluster profile is valid: a dry run through the SLURM executor plugin plans every job."""
+    r = snakemake(
+        [
+            "-n",
+            "--workflow-profile",
+            "workflow/profiles/slurm",
+            "--configfile",
+            "config/smoke.yaml",
+        ],
+        workdir,
+        timeout=300,
+    )
+    assert r.returncode == 0, r.stderr[-3000:]
 
 
 def test_one_figure_by_name(workdir):

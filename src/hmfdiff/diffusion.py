@@ -43,11 +43,7 @@ def resonance_table(state, kappa, n_max=6):
     'dif_cc', 'dif_ss', 'pol_cc', 'pol_ss' (K, R) (zero where there is no root), each including
     the factor 2 pi^2 and the factor 2 of the mirror resonance (-n, -n').
     """
-    if getattr(state, "shape", "fermi") == "step":
-        raise NotImplementedError(
-            "two-step core-halo states have delta-function df/dkappa: use the closed forms of "
-            "hmfdiff.analytic"
-        )
+    step = getattr(state, "shape", "fermi") == "step"
     M0 = state.M0
     kappa = np.atleast_1d(np.asarray(kappa, dtype=float))
     ns = np.arange(1, n_max + 1)
@@ -73,7 +69,8 @@ def resonance_table(state, kappa, n_max=6):
         s_b = sin_coefficient_imag(np_r[None, :], kss) ** 2
         pref = 2.0 * 2.0 * np.pi**2 * W / dO  # 2 pi^2 (eq. hmfCEdif) x 2 (mirror -n, -n')
         dif = pref * n_r[None, :] ** 2 * Jp * f
-        pol = pref * (n_r * np_r)[None, :] * fp
+        # two-step state: f' is a sum of delta functions, D_pol is not a function of kappa
+        pol = np.full(dif.shape, np.nan) if step else pref * (n_r * np_r)[None, :] * fp
         out = {
             "dif_cc": dif * c_t * c_b,
             "dif_ss": dif * s_t * s_b,
@@ -81,6 +78,8 @@ def resonance_table(state, kappa, n_max=6):
             "pol_ss": pol * s_t * s_b,
         }
     for key, val in out.items():
+        if step and key.startswith("pol"):
+            continue
         val = np.where(use, val, 0.0)
         if not np.all(np.isfinite(val)):
             raise FloatingPointError(f"non-finite resonance term {key}: kappa too close to 1?")
@@ -103,6 +102,10 @@ def diffusion_coefficients(state, kappa, n_max=6, l_max=6, collective=True, eps=
     Lenard-Balescu ones, with eps a callable omega -> (eps_cc, eps_ss) (default: the
     `DielectricTensor` of the state with l_max and `accuracy`).
 
+    A two-step core-halo state (shape='step') is accepted with collective=False or an explicit
+    eps (its dielectric tensor is the closed form of hmfdiff.analytic); its 'Dpol' is NaN, since
+    df/dkappa is a sum of delta functions and D_pol is not a function of kappa.
+
     Returns a dict: 'D', 'Dpol' (K,); per resonance 'gamma' (contribution of each resonance to
     D, the paper's gamma(kappa, kappa*)), 'gamma_pol', 'kappa_star' (K, R) with NaN where the
     resonance has no root; 'n', 'nprime', 'branch' (R,); 'eps_cc', 'eps_ss' (n_max, K) at
@@ -117,6 +120,11 @@ def _coefficients_from_table(state, kappa, table, n_max, l_max, collective, eps,
     Om = orbits.frequency(kappa, state.M0)
     omega = np.arange(1, n_max + 1)[:, None] * Om[None, :]  # (n_max, K)
     if collective:
+        if eps is None and getattr(state, "shape", "fermi") == "step":
+            raise NotImplementedError(
+                "two-step core-halo state: pass eps= the closed-form dielectric tensor of "
+                "hmfdiff.analytic (df/dkappa is a sum of delta functions)"
+            )
         if eps is None:
             eps = DielectricTensor(state, l_max=l_max, **accuracy)
         e_cc, e_ss = eps(omega)

@@ -28,16 +28,26 @@ def save_figure(fig, pdf, png, inputs=None, title=""):
     """Save a figure as PDF and PNG atomically, with provenance in the metadata."""
     prov = provenance()
     sources = {
-        k: {"case": ds.attrs.get("case", ""), "git_revision": ds.attrs.get("git_revision", "")}
+        k: {
+            "case": ds.attrs.get("case", ""),
+            "git_revision": ds.attrs.get("git_revision", ""),
+            "config": json.loads(ds.attrs.get("config", "{}")),
+        }
         for k, ds in (inputs or {}).items()
     }
     subject = json.dumps(
-        {"inputs": sources, "software_versions": json.loads(prov["software_versions"])}
+        {
+            "inputs": sources,
+            "software_versions": json.loads(prov["software_versions"]),
+            "git_revision": prov["git_revision"],
+            "history": prov["history"],
+        },
+        sort_keys=True,
     )
     meta_pdf = {
         "Title": title,
         "Subject": subject,
-        "Keywords": f"git {prov['git_revision']}",
+        "Keywords": f"hmfdiff git {prov['git_revision']}",
         "Creator": "hmfdiff",
     }
     meta_png = {

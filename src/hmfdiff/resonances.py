@@ -30,7 +30,8 @@ def resonant_kappas(kappa, n, nprime, M0):
     )
     ok = (n * nprime > 0) & np.isfinite(kappa)
     with np.errstate(divide="ignore", invalid="ignore"):
-        target = np.where(ok, n * orbits.frequency(kappa, M0) / np.where(nprime == 0, 1, nprime), np.nan)
+        ratio = n / np.where(nprime == 0, 1, nprime)
+        target = np.where(ok, ratio * orbits.frequency(kappa, M0), np.nan)
     target = np.where(ok & (target > 0), target, np.nan)
     k_lib = orbits.kappa_from_frequency(np.nan_to_num(target, nan=-1.0), M0, "libration")
     k_rot = orbits.kappa_from_frequency(np.nan_to_num(target, nan=-1.0), M0, "rotation")

@@ -82,17 +82,46 @@ def sample_thermal(state, n, rng):
     return wrap_angle(theta), p
 
 
-def kappa_from_rescaled_action(jbar, M0):
-    """kappa of the orbit with rescaled action J-bar (J = 2 J-bar below the separatrix)."""
+def kappa_from_rescaled_action(jbar, M0, n_newton=6):
+    """kappa of the orbit with rescaled action J-bar (J = 2 J-bar below the separatrix).
+
+    A start from a tabulated inverse, then Newton steps on J(kappa) within the orbit family;
+    points that have not converged to 1e-13 relative go through bisection
+    (`orbits.kappa_from_action`)."""
     jbar = np.asarray(jbar, dtype=float)
     js = jbar_separatrix(M0)
     lib = jbar < js
-    kappa = np.empty_like(jbar)
-    if np.any(lib):
-        kappa[lib] = orbits.kappa_from_action(2.0 * jbar[lib], M0, "libration")
-    if np.any(~lib):
-        kappa[~lib] = orbits.kappa_from_action(jbar[~lib], M0, "rotation")
-    return kappa
+    # table of the inverse, graded towards the separatrix
+    near = 10.0 ** -np.linspace(0.5, 15.0, 300)
+    kt = np.unique(
+        np.concatenate(
+            [
+                np.linspace(0.0, 1.0, 400)[:-1],
+                1.0 - near,
+                1.0 + near,
+                1.0
+                + np.geomspace(
+                    0.3, max(4.0, 2.0 * float(np.max(jbar, initial=0.0)) / np.sqrt(M0)), 400
+                ),
+            ]
+        )
+    )
+    jt = orbits.rescaled_action(kt, M0)
+    k = np.interp(jbar, jt, kt)
+    J_target = np.where(lib, 2.0 * jbar, jbar)
+    lo = np.where(lib, 0.0, 1.0 + 1e-16)
+    hi = np.where(lib, 1.0 - 1e-16, np.inf)
+    k = np.clip(k, lo, hi)
+    for _ in range(n_newton):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = (orbits.action(k, M0) - J_target) / orbits.dJ_dkappa(k, M0)
+        k = np.clip(k - np.nan_to_num(step), lo, hi)
+    bad = ~(np.abs(orbits.action(k, M0) - J_target) <= 1e-13 * np.maximum(J_target, 1e-300))
+    bad &= J_target > 0
+    for fam, sel in (("libration", bad & lib), ("rotation", bad & ~lib)):
+        if np.any(sel):
+            k[sel] = orbits.kappa_from_action(J_target[sel], M0, fam)
+    return np.where(jbar <= 0.0, 0.0, k)
 
 
 def _kappa_grid(state, n_grid):
@@ -100,7 +129,7 @@ def _kappa_grid(state, n_grid):
     g = np.linspace(0.0, kmax, n_grid)
     # graded towards the separatrix, where J-bar(kappa) has a logarithmic derivative
     near = 10.0 ** -np.linspace(1.0, 13.0, 200)
-    extra = [1.0 - near, 1.0 + near, [1.0]]
+    extra = [1.0 - near, 1.0 + near]
     for k in getattr(state, "step_kappas", []) if getattr(state, "shape", "") == "step" else []:
         extra.append([k * (1 - 1e-13), k * (1 + 1e-13)])
     g = np.unique(np.concatenate([g, *extra]))

@@ -8,6 +8,8 @@ on an omega grid (real and imaginary parts: netCDF has no complex type).
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import xarray as xr
 
@@ -95,55 +97,112 @@ def theory_dataset(
         "J": kvar(J, "action", "action J(kappa) (eq. hmfaction)"),
         "Jbar": kvar(Jbar, "action", "rescaled action J-bar (J/2 for kappa < 1, J for kappa > 1)"),
         "Omega": kvar(Om, "1/time", "orbital frequency Omega(kappa) (eq. hmfomega)"),
-        "D_landau": kvar(full(lan["D"]), _D_UNITS,
-                         "N D_dif without collective effects (Landau, eqs. hmfCEdif, hmfDbare)"),
-        "D_lenard_balescu": kvar(full(lb["D"]), _D_UNITS,
-                                 "N D_dif with collective effects (Lenard-Balescu, eqs. hmfCEdif, "
-                                 "hmfD)"),
-        "Dpol_landau": kvar(full(lan["Dpol"]), _D_UNITS,
-                            "N D_pol without collective effects (eq. hmfCEpol); flux = "
-                            "D_dif df/dJ - D_pol f"),
-        "Dpol_lenard_balescu": kvar(full(lb["Dpol"]), _D_UNITS,
-                                    "N D_pol with collective effects (eq. hmfCEpol); flux = "
-                                    "D_dif df/dJ - D_pol f"),
+        "D_landau": kvar(
+            full(lan["D"]),
+            _D_UNITS,
+            "N D_dif without collective effects (Landau, eqs. hmfCEdif, hmfDbare)",
+        ),
+        "D_lenard_balescu": kvar(
+            full(lb["D"]),
+            _D_UNITS,
+            "N D_dif with collective effects (Lenard-Balescu, eqs. hmfCEdif, hmfD)",
+        ),
+        "Dpol_landau": kvar(
+            full(lan["Dpol"]),
+            _D_UNITS,
+            "N D_pol without collective effects (eq. hmfCEpol); flux = D_dif df/dJ - D_pol f",
+        ),
+        "Dpol_lenard_balescu": kvar(
+            full(lb["Dpol"]),
+            _D_UNITS,
+            "N D_pol with collective effects (eq. hmfCEpol); flux = D_dif df/dJ - D_pol f",
+        ),
         "eps_cc_real": ("omega", eps_cc.real, {"units": "1", "long_name": "Re eps_cc(omega)"}),
         "eps_cc_imag": ("omega", eps_cc.imag, {"units": "1", "long_name": "Im eps_cc(omega)"}),
         "eps_ss_real": ("omega", eps_ss.real, {"units": "1", "long_name": "Re eps_ss(omega)"}),
         "eps_ss_imag": ("omega", eps_ss.imag, {"units": "1", "long_name": "Im eps_ss(omega)"}),
-        "resonance_n": ("resonance", table["n"].astype(np.int32),
-                        {"units": "1", "long_name": "harmonic n of the test orbit (n > 0; the "
-                         "mirror resonance (-n, -n') is included in gamma)"}),
-        "resonance_nprime": ("resonance", table["nprime"].astype(np.int32),
-                             {"units": "1", "long_name": "harmonic n' of the bath orbit"}),
-        "resonance_branch": ("resonance", table["branch"].astype(np.int32),
-                             {"units": "1", "long_name": "orbit family of kappa*",
-                              "flag_values": "0 1", "flag_meanings": "libration rotation"}),
-        "resonance_kappa_star": (("kappa", "resonance"), full(table["kappa_star"]),
-                                 {"units": "1", "long_name": "resonant kappa*: n Omega(kappa) = "
-                                  "n' Omega(kappa*)", "missing": "NaN where the resonance has no "
-                                  "root or kappa is in the separatrix band"}),
-        "gamma_landau": (("kappa", "resonance"), full(lan["gamma"]),
-                         {"units": _D_UNITS, "long_name": "contribution gamma(kappa, kappa*) of "
-                          "each resonance to N D_dif (Landau); sums to D_landau",
-                          "missing": "NaN where the resonance has no root"}),
-        "gamma_lenard_balescu": (("kappa", "resonance"), full(lb["gamma"]),
-                                 {"units": _D_UNITS, "long_name": "contribution gamma(kappa, "
-                                  "kappa*) of each resonance to N D_dif (Lenard-Balescu; fig. "
-                                  "hmfcontribs); sums to D_lenard_balescu",
-                                  "missing": "NaN where the resonance has no root"}),
+        "resonance_n": (
+            "resonance",
+            table["n"].astype(np.int32),
+            {
+                "units": "1",
+                "long_name": "harmonic n of the test orbit (n > 0; the "
+                "mirror resonance (-n, -n') is included in gamma)",
+            },
+        ),
+        "resonance_nprime": (
+            "resonance",
+            table["nprime"].astype(np.int32),
+            {"units": "1", "long_name": "harmonic n' of the bath orbit"},
+        ),
+        "resonance_branch": (
+            "resonance",
+            table["branch"].astype(np.int32),
+            {
+                "units": "1",
+                "long_name": "orbit family of kappa*",
+                "flag_values": "0 1",
+                "flag_meanings": "libration rotation",
+            },
+        ),
+        "resonance_kappa_star": (
+            ("kappa", "resonance"),
+            full(table["kappa_star"]),
+            {
+                "units": "1",
+                "long_name": "resonant kappa*: n Omega(kappa) = n' Omega(kappa*)",
+                "missing": "NaN where the resonance has no root or kappa is in the separatrix band",
+            },
+        ),
+        "gamma_landau": (
+            ("kappa", "resonance"),
+            full(lan["gamma"]),
+            {
+                "units": _D_UNITS,
+                "long_name": "contribution gamma(kappa, kappa*) of "
+                "each resonance to N D_dif (Landau); sums to D_landau",
+                "missing": "NaN where the resonance has no root",
+            },
+        ),
+        "gamma_lenard_balescu": (
+            ("kappa", "resonance"),
+            full(lb["gamma"]),
+            {
+                "units": _D_UNITS,
+                "long_name": "contribution gamma(kappa, "
+                "kappa*) of each resonance to N D_dif (Lenard-Balescu; fig. "
+                "hmfcontribs); sums to D_lenard_balescu",
+                "missing": "NaN where the resonance has no root",
+            },
+        ),
         "M0": ((), M0, {"units": "1", "long_name": "magnetisation M0"}),
-        "separatrix_mask": ("kappa", masked.astype(np.int8),
-                            {"units": "1", "long_name": "1 where |kappa - 1| < separatrix_band"}),
+        "separatrix_mask": (
+            "kappa",
+            masked.astype(np.int8),
+            {"units": "1", "long_name": "1 where |kappa - 1| < separatrix_band"},
+        ),
     }
     ds = xr.Dataset(
         data,
         coords={
-            "kappa": ("kappa", kappa, {"units": "1", "long_name": "orbit label kappa "
-                                       "(eq. hmfkappa); < 1 librating, > 1 rotating"}),
-            "omega": ("omega", omega, {"units": "1/time", "long_name": "real frequency "
-                                       "(Landau prescription omega + i0)"}),
-            "resonance": ("resonance", np.arange(R, dtype=np.int32),
-                          {"long_name": "resonance index, ordered (n, n', branch)"}),
+            "kappa": (
+                "kappa",
+                kappa,
+                {
+                    "units": "1",
+                    "long_name": "orbit label kappa (eq. hmfkappa); < 1 librating, > 1 rotating",
+                },
+            ),
+            "omega": (
+                "omega",
+                omega,
+                {"units": "1/time", "long_name": "real frequency (Landau prescription omega + i0)"},
+            ),
+            "resonance": (
+                "resonance",
+                np.arange(R, dtype=np.int32),
+                {"long_name": "resonance index, ordered (n, n', branch)"},
+            ),
         },
     )
     ds.attrs.update(
@@ -157,6 +216,9 @@ def theory_dataset(
         D_convention="<dJ^2> = 2 D dt; N*D stored; rotating orbits counted for both directions",
         time_dependence="exp(-i omega t)",
     )
+    ds.attrs["Omega0"] = float(np.sqrt(M0))
+    ds.attrs["state_kind"] = str(getattr(state, "kind", type(state).__name__))
+    ds.attrs["state_params"] = json.dumps(getattr(state, "params", {}))
     if getattr(state, "beta", None) is not None:
         ds.attrs["beta"] = float(state.beta)
     return ds

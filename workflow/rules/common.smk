@@ -28,6 +28,36 @@ FIGURES = {
 }
 
 
+FIGURE_CAPTIONS = {
+    "fig01_orbits": "Fig. 1 (fig:hmforbits): a librating orbit (kappa < 1), the separatrix "
+    "(kappa = 1) and a rotating orbit (kappa > 1, both directions) of h = p^2/2 - M0 cos(theta), "
+    "from the inverse angle-action map (appendix A).",
+    "fig02_action_frequency": "Fig. 2 (fig:hmfactom): the action J(kappa) (eq. hmfaction), "
+    "discontinuous at the separatrix, and the frequency Omega(J) (eq. hmfomega), inset Omega(kappa).",
+    "fig03_poles": "Fig. 3 (fig:hmfpoles): poles of the dielectric integrand, Omega(kappa) = "
+    "omega/l: two poles kappa_1 < 1 < kappa_2 for 0 < omega/l < Omega_0, one above Omega_0.",
+    "fig04_contributions": "Fig. 4 (fig:hmfcontribs): normalised contribution "
+    "gamma(kappa, kappa*)/D_dif(kappa) of each resonant orbit kappa* to the Lenard-Balescu "
+    "diffusion coefficient (eq. hmfCEdif), thermal states M0 = 0.05 and 0.9.",
+    "fig05_dielectric": "Fig. 5 (fig:eps): cosine and sine components of the dielectric tensor "
+    "(eqs. hmfepscc, hmfepsss; Landau prescription), thermal (u, M0) = (-0.1, 0.728); vertical "
+    "lines at Omega_0 and 2 Omega_0.",
+    "fig06_landau_lenard_balescu": "Fig. 6 (fig:hmfCENCEcompare): N D_dif(kappa) with (Lenard-"
+    "Balescu, eqs. hmfCEdif + hmfD) and without (Landau, eq. hmfDbare) collective effects, thermal "
+    "(u, M0) = (-0.1, 0.7285) and (0.2475, 0.0632); cut near the separatrix.",
+    "fig07_closed_forms": "Fig. 7 (M0.8): (a-c) eps_cc, eps_ss and N D_dif of the smooth core-halo "
+    "states ch1*, ch2* against the two-step closed form (eq. hmfepscc/ss-ch, corrected); (d-f) the "
+    "same for the thermal state M0 = 0.95 against appendix C (eqs. eps_cc_ap, eps_ss_ap, corrected).",
+    "fig08_dj2": "Fig. 8 (fig:dj2t): <dJ^2>(dt) from MD(full) for several J0, with the linear "
+    "fits (eq. hmfmddif) over the shaded window.",
+    "fig09_md_thermal": "Fig. 9 (fig:hmfdiff): N D from MD against theory, thermal (u, M0) = "
+    "(-0.2, 0.816), (0.0, 0.622), (0.2475, 0.063): MD(bath) vs Landau (top), MD(full) vs "
+    "Lenard-Balescu (bottom); errors from the spread between seeds; grey line: separatrix.",
+    "fig10_md_corehalo": "Fig. 10 (fig:hmfch): the same for the core-halo state ch2* "
+    "(beta1=30, beta2=10, eta1=0.298, eta2=0.051, mu1=-0.517, mu2=0.19, M0 = 0.8).",
+}
+
+
 def figure_cases(name):
     spec = config["figures"][name]
     if "cases" in spec:
@@ -82,7 +112,8 @@ def theory_cases():
 
 # ---- molecular dynamics -------------------------------------------------------------
 def md_cases():
-    return list(config["md"]["runs"])
+    """MD cases in a fixed order, so that reordering the config reruns nothing."""
+    return sorted(config["md"]["runs"])
 
 
 def md_setting(case, key):

@@ -50,7 +50,11 @@ rule validation:
         theory=[f"results/theory/{c}.nc" for c in md_cases() for d in ("bath", "full")],
         lib=lib("fits", "io"),
     output:
-        table="results/validation.csv",
+        table=report(
+            "results/validation.csv",
+            caption="../report/validation.rst",
+            category="Validation",
+        ),
         summary="results/validation_summary.txt",
     log:
         "logs/validation.log",

@@ -1,0 +1,248 @@
+"""Benchmark of the HMF molecular dynamics kernels (hmfdiff.md) at the paper's N = 5e5.
+
+Prints particle-steps per second of the full dynamics (eq. hmfmdfull) and of the bath dynamics
+(eq. hmfmdbath: N_b bath particles in the static field plus test particles), the cost of one
+action evaluation of 5e5 particles, and the same for a plain vectorised numpy implementation
+(the baseline), with ratios; with --memory, the peak RSS of a short N = 5e5 run_md with 100
+active time origins (measured in a fresh subprocess).
+
+    python benchmarks/bench_md.py [--json] [--threads 2] [--n 500000] [--memory]
+
+The numba kernels are compiled (warmed) on small arrays before any timing; no numba cache is
+used.  Timings are the best of several repetitions of wall-clock time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+
+import numba
+import numpy as np
+
+from hmfdiff import equilibrium, md, orbits, sampling
+
+M0 = 0.72846
+
+
+def best_of(fn, reps=3):
+    best = np.inf
+    for _ in range(reps):
+        t = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+# ------------------------------------------------------------------ numpy baselines
+def numpy_full_steps(theta, p, n_steps, dt):
+    """Velocity Verlet of eq. hmfmdfull in plain numpy (sin, cos once per step)."""
+    s, c = np.sin(theta), np.cos(theta)
+    mx, my = c.mean(), s.mean()
+    for _ in range(n_steps):
+        p += 0.5 * dt * (my * c - mx * s)
+        theta += dt * p
+        s, c = np.sin(theta), np.cos(theta)
+        mx, my = c.mean(), s.mean()
+        p += 0.5 * dt * (my * c - mx * s)
+    return theta, p
+
+
+def numpy_bath_steps(th_b, p_b, th_t, p_t, n_steps, dt):
+    """Velocity Verlet of eq. hmfmdbath in plain numpy."""
+    s, c = np.sin(th_b), np.cos(th_b)
+    st, ct = np.sin(th_t), np.cos(th_t)
+    mx, my = c.mean(), s.mean()
+    for _ in range(n_steps):
+        p_b -= 0.5 * dt * M0 * s
+        p_t += 0.5 * dt * (my * ct - mx * st)
+        th_b += dt * p_b
+        th_t += dt * p_t
+        s, c = np.sin(th_b), np.cos(th_b)
+        st, ct = np.sin(th_t), np.cos(th_t)
+        mx, my = c.mean(), s.mean()
+        p_b -= 0.5 * dt * M0 * s
+        p_t += 0.5 * dt * (my * ct - mx * st)
+
+
+def numpy_actions(theta, p):
+    kappa = np.sqrt(p**2 / (4 * M0) + np.sin(0.5 * theta) ** 2)
+    return orbits.action(kappa, M0)
+
+
+# ------------------------------------------------------------------ measurements
+def measure(n, threads, n_test_bath):
+    numba.set_num_threads(threads)
+    state = equilibrium.ThermalState(M0=M0)
+    rng = sampling.make_rng(0)
+    th, p = sampling.sample_thermal(state, n, rng)
+    th_t, p_t = sampling.sample_thermal(state, n_test_bath, rng)
+    dt = 0.05
+    # warm the compiler on small arrays (same types)
+    small = md.Particles(th[:100], p[:100])
+    md.advance_system("full", small, md.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0)
+    md.advance_system("bath", small, md.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0)
+    md.actions(th[:100], p[:100], M0, 0.1)
+
+    n_steps = 200
+    P = md.Particles(th, p)
+    empty = md.Particles(np.zeros(0), np.zeros(0))
+    M = P.moments()[:2]
+    t_full = best_of(lambda: md.advance_system("full", P, empty, M, n_steps, dt, M0))
+    # load-robust figure: one thread, CPU time of this process (what a core delivers)
+    numba.set_num_threads(1)
+    cpu = np.inf
+    for _ in range(3):
+        c0 = time.process_time()
+        md.advance_system("full", P, empty, M, n_steps, dt, M0)
+        cpu = min(cpu, time.process_time() - c0)
+    numba.set_num_threads(threads)
+    B, T = md.Particles(th, p), md.Particles(th_t, p_t)
+    t_bath = best_of(lambda: md.advance_system("bath", B, T, M, n_steps, dt, M0))
+    t_act = best_of(lambda: md.actions(P.theta, P.p, M0, 0.01), reps=5)
+    # <dJ^2> accumulation: cost per (active origin, particle) at one sampling time
+    J, Jb = md.actions(P.theta, P.p, M0, 0.01)
+    acc = md.DisplacementAccumulator(n, np.linspace(0.0, 2.0, 41), 200, 100, 5, 4)
+    for s in range(101):
+        acc.add(s, J, Jb)  # fills the ring buffer: 21 active origins from s = 100 on
+    t_acc = best_of(lambda: acc.add(101, J, Jb), reps=3) / (21 * n)
+
+    n_np = 20
+    thn, pn = th.copy(), p.copy()
+    t_np_full = best_of(lambda: numpy_full_steps(thn, pn, n_np, dt), reps=2)
+    thb, pb, tht, ptt = th.copy(), p.copy(), th_t.copy(), p_t.copy()
+    t_np_bath = best_of(lambda: numpy_bath_steps(thb, pb, tht, ptt, n_np, dt), reps=2)
+    t_np_act = best_of(lambda: numpy_actions(th, p), reps=2)
+    res = {
+        "n": n,
+        "threads": threads,
+        "n_test_bath": n_test_bath,
+        "full_psteps_per_s": n * n_steps / t_full,
+        "full_psteps_per_cpu_s_1thread": n * n_steps / cpu,
+        "bath_psteps_per_s": (n + n_test_bath) * n_steps / t_bath,
+        "numpy_psteps_per_s": n * n_np / t_np_full,
+        "numpy_bath_psteps_per_s": (n + n_test_bath) * n_np / t_np_bath,
+        "actions_seconds_per_5e5": t_act * 5e5 / n,
+        "numpy_actions_seconds_per_5e5": t_np_act * 5e5 / n,
+        "accumulate_ns_per_origin_particle": t_acc * 1e9,
+        "load_average_1min": os.getloadavg()[0],
+        "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY", ""),
+        "threading_layer": numba.threading_layer(),
+    }
+    res["full_speedup_vs_numpy"] = res["full_psteps_per_s"] / res["numpy_psteps_per_s"]
+    res["bath_speedup_vs_numpy"] = res["bath_psteps_per_s"] / res["numpy_bath_psteps_per_s"]
+    res["actions_speedup_vs_numpy"] = (
+        res["numpy_actions_seconds_per_5e5"] / res["actions_seconds_per_5e5"]
+    )
+    return res
+
+
+def memory_run(n, threads):
+    """A short run_md at N = n with 100 active origins; returns (peak RSS in GB, wall s)."""
+    state = equilibrium.ThermalState(M0=M0)
+    t = time.perf_counter()
+    # 100 slots of the ring buffer: max_lag / origin_every + 1 = 100, and t_max >= 2 max_lag
+    # so that more than 100 origins complete their window
+    ds = md.run_md(
+        state,
+        dynamics="full",
+        n_particles=n,
+        dt=0.25,
+        t_max=100.0,
+        sample_every=0.5,
+        max_lag=49.5,
+        origin_every=0.5,
+        jbar_edges=np.linspace(0, 2.0, 41),
+        seed=0,
+        threads=threads,
+        n_blocks=2,
+        progress=None,
+    )
+    wall = time.perf_counter() - t
+    assert ds.attrs["n_origins"] >= 100
+    rss_gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e9  # KiB on Linux
+    return rss_gb, wall
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true", help="print one JSON object")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--n", type=int, default=500_000)
+    ap.add_argument("--n-test-bath", type=int, default=50_000)
+    ap.add_argument(
+        "--memory",
+        action="store_true",
+        help="also measure the peak RSS of a short run (in a subprocess)",
+    )
+    ap.add_argument("--memory-child", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.memory_child:
+        rss, wall = memory_run(args.n, args.threads)
+        print(json.dumps({"peak_rss_gb": rss, "memory_run_wall_s": wall}))
+        return
+    res = measure(args.n, args.threads, args.n_test_bath)
+    if args.memory:
+        out = subprocess.run(
+            [
+                sys.executable,
+                __file__,
+                "--memory-child",
+                "--n",
+                str(args.n),
+                "--threads",
+                str(args.threads),
+            ],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        res.update(json.loads(out.stdout.strip().splitlines()[-1]))
+    if args.json:
+        print(json.dumps(res))
+        return
+    print(
+        f"N = {res['n']}, threads = {res['threads']}, machine: {numba.config.NUMBA_NUM_THREADS}"
+        " cores visible to numba"
+    )
+    print(
+        f"full dynamics:  {res['full_psteps_per_s']:.3g} particle-steps/s   "
+        f"(numpy {res['numpy_psteps_per_s']:.3g}, x{res['full_speedup_vs_numpy']:.1f})"
+    )
+    print(
+        f"full dynamics, 1 thread, per CPU second (insensitive to other load): "
+        f"{res['full_psteps_per_cpu_s_1thread']:.3g}"
+    )
+    print(
+        f"bath dynamics:  {res['bath_psteps_per_s']:.3g} particle-steps/s   "
+        f"(N_b = {res['n']} + {res['n_test_bath']} test; numpy "
+        f"{res['numpy_bath_psteps_per_s']:.3g}, x{res['bath_speedup_vs_numpy']:.1f})"
+    )
+    print(
+        f"actions of 5e5: {res['actions_seconds_per_5e5']:.3g} s   "
+        f"(numpy/scipy {res['numpy_actions_seconds_per_5e5']:.3g} s, "
+        f"x{res['actions_speedup_vs_numpy']:.1f})"
+    )
+    print(
+        f"<dJ^2> accumulation: {res['accumulate_ns_per_origin_particle']:.3g} ns per "
+        "(active origin, particle) and sampling time"
+    )
+    print(
+        f"(1-min load average of the machine at the end: {res['load_average_1min']:.2f}; "
+        f"numba threading layer {res['threading_layer']}, OMP_WAIT_POLICY "
+        f"{res['omp_wait_policy']})"
+    )
+    if "peak_rss_gb" in res:
+        print(
+            f"peak RSS of a short run_md at N = {res['n']} with 100 active origins: "
+            f"{res['peak_rss_gb']:.2f} GB (run wall {res['memory_run_wall_s']:.1f} s)"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,322 @@
+"""Tests of the HMF molecular dynamics (hmfdiff.md): kernels against numpy / scipy, the
+integrator's conservation laws and reversibility, the frame of the magnetisation, determinism,
+and the <dJ^2> accumulator on synthetic data with a known answer."""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from hmfdiff import equilibrium, md, orbits, sampling
+
+M0 = 0.72846  # paper case (u, M0) = (-0.1, 0.72846)
+
+
+@pytest.fixture(scope="module")
+def state():
+    return equilibrium.ThermalState(M0=M0)
+
+
+def thermal_particles(state, n, seed):
+    th, p = sampling.sample_thermal(state, n, sampling.make_rng(seed))
+    th, _ = sampling.rotate_to_x_axis(th)
+    return th, p - p.mean()
+
+
+# ------------------------------------------------------------------ kernels vs references
+def test_sincos_matches_numpy():
+    x = np.linspace(-4 * np.pi, 4 * np.pi, 400_001)
+    x = np.concatenate([x, np.arange(-8, 9) * np.pi / 4, np.arange(-8, 9) * np.pi / 2 + 1e-9])
+    s, c = md.sincos_array(x)
+    ts, tc = np.sin(x), np.cos(x)
+    assert np.max(np.abs(s - ts)) < 4.5e-16
+    assert np.max(np.abs(c - tc)) < 4.5e-16
+    ms, mc = np.abs(ts) > 1e-12, np.abs(tc) > 1e-12
+    assert np.max(np.abs(s - ts)[ms] / np.abs(ts[ms])) < 1e-15
+    assert np.max(np.abs(c - tc)[mc] / np.abs(tc[mc])) < 1e-15
+
+
+def test_wrapped_sincos_matches_numpy():
+    """The half-angle sincos of the MD step, on its domain [-pi, pi] (angles are wrapped)."""
+    x = np.concatenate([np.linspace(-np.pi, np.pi, 400_001), [-np.pi, np.pi, 0.0, 1e-300]])
+    s, c = md.sincos_wrapped_array(x)
+    ts, tc = np.sin(x), np.cos(x)
+    assert np.max(np.abs(s - ts)) < 6e-16
+    assert np.max(np.abs(c - tc)) < 6e-16
+    ms, mc = np.abs(ts) > 1e-3, np.abs(tc) > 1e-3
+    assert np.max(np.abs(s - ts)[ms] / np.abs(ts[ms])) < 1e-12
+    assert np.max(np.abs(c - tc)[mc] / np.abs(tc[mc])) < 1e-12
+
+
+def test_action_agm_matches_orbits():
+    kappa = np.concatenate(
+        [
+            np.logspace(-8, -1, 30),
+            np.linspace(0.1, 0.99, 200),
+            1 - np.logspace(-14, -2, 40),
+            1 + np.logspace(-14, -2, 40),
+            np.linspace(1.01, 60, 200),
+        ]
+    )
+    for m0 in (0.05, M0, 0.95):
+        J, Jb = md.action_numba(kappa, m0)
+        Jref = orbits.action(kappa, m0)
+        assert np.max(np.abs(J / Jref - 1)) < 1e-13
+        np.testing.assert_array_equal(Jb, np.where(kappa < 1, 0.5 * J, J))
+
+
+def test_actions_of_phase_points(state):
+    """J from (theta, p), through kappa^2 = p^2/(4 M0) + sin^2(theta/2), equals orbits.action
+    of the orbit through that point, also in a rotated frame."""
+    rng = np.random.default_rng(5)
+    kappa = np.concatenate([rng.uniform(0.01, 0.99, 500), rng.uniform(1.01, 4.0, 500)])
+    w = rng.uniform(0, 2 * np.pi, kappa.size)
+    sign = np.where(rng.random(kappa.size) < 0.5, -1.0, 1.0)
+    th, p = orbits.phase_point(w, kappa, M0, sign)
+    alpha = 2.1
+    J, Jb = md.actions(sampling.wrap_angle(th + alpha), p, M0, phase=alpha)
+    Jref = orbits.action(kappa, M0)
+    assert np.max(np.abs(J / Jref - 1)) < 1e-11
+    np.testing.assert_allclose(Jb, orbits.rescaled_action(kappa, M0), rtol=1e-11)
+    # extreme orbits through theta = 0 (kappa = p / (2 sqrt(M0))): tiny kappa, separatrix, tails
+    kx = np.concatenate(
+        [
+            np.logspace(-8, -1, 30),
+            1 - np.logspace(-14, -2, 30),
+            1 + np.logspace(-14, -2, 30),
+            np.linspace(1.01, 80, 50),
+        ]
+    )
+    p = 2 * np.sqrt(M0) * kx
+    J, _ = md.actions(np.zeros_like(p), p, M0)
+    assert np.max(np.abs(J / orbits.action(p / (2 * np.sqrt(M0)), M0) - 1)) < 1e-13
+
+
+# ------------------------------------------------------------------ integrator
+def test_full_dynamics_conserves_energy_and_momentum(state):
+    """H/N and sum p of the full HMF dynamics (eq. hmfmdfull); the energy error of the
+    2nd-order velocity Verlet scales as dt^2 (measured: 3.5e-5 relative at dt = 0.05, N = 4000,
+    T = 100)."""
+    th, p = thermal_particles(state, 4000, seed=3)
+    errs = []
+    for dt in (0.05, 0.025):
+        P = md.Particles(th, p)
+
+        def energy_momentum(P=P):
+            m = P.moments()
+            return 0.5 * m[3] - 0.5 * (m[0] ** 2 + m[1] ** 2), m[2]
+
+        e0, p0 = energy_momentum()
+        err, perr = 0.0, 0.0
+        for _ in range(int(round(100 / dt / 40))):
+            md.leapfrog(P, 40, dt, "self")
+            e, pm = energy_momentum()
+            err = max(err, abs(e - e0) / abs(e0))
+            perr = max(perr, abs(pm - p0))
+        errs.append(err)
+        assert perr < 1e-13  # forces sum to zero: momentum conserved to round-off
+    assert errs[0] < 1e-4
+    assert 3.0 < errs[0] / errs[1] < 5.5  # second order
+
+
+def test_time_reversibility(state):
+    th, p = thermal_particles(state, 3000, seed=4)
+    P = md.Particles(th, p)
+    md.leapfrog(P, 1000, 0.05, "self")
+    assert np.max(np.abs(P.p - p)) > 1e-2  # it did move
+    md.leapfrog(P, 1000, -0.05, "self")
+    assert np.max(np.abs(sampling.wrap_angle(P.theta - th))) < 1e-10
+    assert np.max(np.abs(P.p - p)) < 1e-10
+
+
+def test_static_field_pendulum_keeps_action_and_matches_ode():
+    """Bath particles in the static field (theta'' = -M0 sin theta) keep J to O(dt^2), and the
+    trajectory converges to an accurate ODE solution."""
+    rng = np.random.default_rng(11)
+    kappa = np.concatenate([np.linspace(0.05, 0.95, 40), np.linspace(1.05, 3.0, 40)])
+    th0, p0 = orbits.phase_point(
+        rng.uniform(0, 2 * np.pi, kappa.size),
+        kappa,
+        M0,
+        np.where(rng.random(kappa.size) < 0.5, -1.0, 1.0),
+    )
+    J0 = orbits.action(kappa, M0)
+    errs = []
+    for dt in (0.05, 0.025):
+        P = md.Particles(th0, p0)
+        err = 0.0
+        for _ in range(25):
+            md.leapfrog(P, int(round(4 / dt)), dt, "static", M0, 0.0)
+            err = max(err, np.max(np.abs(md.actions(P.theta, P.p, M0)[0] / J0 - 1)))
+        errs.append(err)
+    assert errs[0] < 2e-3
+    assert 3.0 < errs[0] / errs[1] < 5.5
+    # trajectory against scipy's DOP853 over t = 10
+    P = md.Particles(th0[::8], p0[::8])
+    md.leapfrog(P, 10000, 0.001, "static", M0, 0.0)
+    y0 = np.concatenate([th0[::8], p0[::8]])
+    n = y0.size // 2
+    sol = solve_ivp(
+        lambda t, y: np.concatenate([y[n:], -M0 * np.sin(y[:n])]),
+        (0, 10),
+        y0,
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-12,
+    )
+    assert np.max(np.abs(sampling.wrap_angle(P.theta - sol.y[:n, -1]))) < 1e-5
+    assert np.max(np.abs(P.p - sol.y[n:, -1])) < 1e-5
+
+
+def test_rotation_leaves_frame_actions_unchanged(state):
+    """Rotating every particle by one angle changes no action measured in the magnetisation
+    frame, at t = 0 and after 200 steps of the full dynamics."""
+    th, p = thermal_particles(state, 2000, seed=6)
+    th = sampling.wrap_angle(th + 0.3)  # magnetisation off the x axis
+    alpha = 1.234
+    P1, P2 = md.Particles(th, p), md.Particles(th + alpha, p)
+    for k in range(2):
+        J = []
+        for P in (P1, P2):
+            m = P.moments()
+            J.append(md.actions(P.theta, P.p, M0, np.arctan2(m[1], m[0]))[0])
+        assert np.max(np.abs(J[0] - J[1])) < (1e-12 if k == 0 else 1e-8)
+        for P in (P1, P2):
+            md.leapfrog(P, 200, 0.05, "self")
+
+
+# ------------------------------------------------------------------ accumulator
+def test_accumulator_deterministic_drift():
+    """J_i(s) = a_i + v_i s: the sums are sum over origins and particles of (v_i L)^2, per bin
+    of J-bar(t0), computed here by brute force."""
+    rng = np.random.default_rng(2)
+    n, n_samp, max_lag, oe, nb = 50, 40, 10, 3, 3
+    a = rng.uniform(0.5, 2.0, n)  # rotating (J-bar = J)
+    v = rng.normal(0, 0.01, n)
+    edges = np.array([0.4, 1.0, 1.5, 2.5])
+    acc = md.DisplacementAccumulator(n, edges, n_samp, max_lag, oe, nb)
+    traj = a[None, :] + v[None, :] * np.arange(n_samp)[:, None]
+    for s in range(n_samp):
+        acc.add(s, traj[s], traj[s])
+    n_orig = (n_samp - 1 - max_lag) // oe + 1
+    exp = np.zeros((3, max_lag + 1))
+    cnt = np.zeros((3, max_lag + 1))
+    for o in range(n_orig):
+        t0 = o * oe
+        b = np.searchsorted(edges, traj[t0], side="right") - 1
+        for L in range(max_lag + 1):
+            d = traj[t0 + L] - traj[t0]
+            for i in range(n):
+                if 0 <= b[i] < 3:
+                    exp[b[i], L] += d[i] ** 2
+                    cnt[b[i], L] += 1
+    np.testing.assert_allclose(acc.acc[0].sum(-1), exp, rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(acc.acc[1].sum(-1), exp, rtol=1e-12, atol=1e-18)
+    np.testing.assert_array_equal(acc.acc[3].sum(-1), cnt)
+    assert acc.acc[3][..., 0].sum() > 0 and np.all(acc.acc[3].sum(axis=(0, 1)) > 0)
+
+
+def test_accumulator_random_walk_librating():
+    """Random walk of J-bar with step sigma on librating orbits (J = 2 J-bar): the mean squared
+    displacements are sigma^2 L for J-bar and 4 sigma^2 L for J."""
+    rng = np.random.default_rng(7)
+    n, n_samp, max_lag, oe = 20000, 60, 20, 5
+    sigma = 1e-3
+    jb = np.cumsum(rng.normal(0, sigma, (n_samp, n)), axis=0) + rng.uniform(0.2, 0.4, n)
+    acc = md.DisplacementAccumulator(n, [0.0, 0.3, 1.0], n_samp, max_lag, oe, 4)
+    for s in range(n_samp):
+        acc.add(s, 2 * jb[s], jb[s])
+    msd_bar = acc.acc[1].sum(-1) / acc.acc[3].sum(-1)
+    msd = acc.acc[0].sum(-1) / acc.acc[3].sum(-1)
+    lags = np.arange(max_lag + 1)
+    np.testing.assert_allclose(
+        msd_bar[:, 1:], np.broadcast_to(sigma**2 * lags[1:], (2, max_lag)), rtol=0.05
+    )
+    np.testing.assert_allclose(
+        msd[:, 1:], 4 * np.broadcast_to(sigma**2 * lags[1:], (2, max_lag)), rtol=0.05
+    )
+    assert np.all(msd[:, 0] == 0)
+    # every particle is counted once per origin in one bin
+    n_orig = (n_samp - 1 - max_lag) // oe + 1
+    assert np.all(acc.acc[3].sum(axis=(0, 2)) == n * n_orig)
+
+
+# ------------------------------------------------------------------ driver
+RUN = dict(
+    dt=0.05,
+    t_max=20.0,
+    sample_every=0.5,
+    max_lag=5.0,
+    origin_every=1.0,
+    jbar_edges=np.linspace(0.0, 1.5, 7),
+    n_blocks=4,
+)
+
+
+def test_run_md_deterministic_and_thread_independent(state):
+    kw = dict(
+        RUN,
+        dynamics="full",
+        n_particles=3000,
+        n_test=50,
+        test_sampling="uniform",
+        jbar_range=(0.2, 1.4),
+        seed=9,
+    )
+    a = md.run_md(state, threads=2, progress=None, **kw)
+    b = md.run_md(state, threads=2, progress=None, **kw)
+    c = md.run_md(state, threads=1, progress=None, **kw)
+    for v in ("sum_dJ2", "sum_dJbar2", "count", "Mx", "My", "energy", "sample_p"):
+        np.testing.assert_array_equal(a[v].values, b[v].values)
+        np.testing.assert_array_equal(a[v].values, c[v].values)
+    d = md.run_md(state, threads=2, progress=None, **dict(kw, member=1))
+    assert not np.array_equal(a["sum_dJ2"].values, d["sum_dJ2"].values)
+    # energy per particle conserved and equal to the thermal u up to sampling noise
+    e = a["energy"].values
+    assert np.max(np.abs(e - e[0])) < 1e-4 * abs(e[0])
+    assert abs(e[0] - state.u) < 0.02
+    assert np.all(a["count"].values[:, 0] == a["count"].values[:, -1])
+    np.testing.assert_allclose(a["sum_dJ2_block"].sum("block"), a["sum_dJ2"])
+
+
+def test_run_md_bath(state):
+    ds = md.run_md(
+        state,
+        dynamics="bath",
+        n_particles=3000,
+        n_test=400,
+        seed=1,
+        threads=2,
+        t_equilibrate=1.0,
+        progress=None,
+        **RUN,
+    )
+    e = ds["energy"].values  # bath energy in the static field: conserved
+    assert np.max(np.abs(e - e[0])) < 1e-4
+    assert ds.attrs["dynamics"] == "bath" and ds.attrs["n_tracked"] == 400
+    n_pairs = int(ds["count"].values[:, 0].sum())  # (origin, particle) pairs inside the edges
+    assert 0.8 * 400 * ds.attrs["n_origins"] < n_pairs <= 400 * ds.attrs["n_origins"]
+    assert np.all(ds["n_particles_in_bin"].values <= 400)
+    for v in ds.data_vars:
+        assert "units" in ds[v].attrs and "long_name" in ds[v].attrs
+
+
+@pytest.mark.parametrize(
+    "change, word",
+    [
+        (dict(n_particles=0), "n_particles"),
+        (dict(n_particles=10.5), "n_particles"),
+        (dict(dt=-0.1), "dt"),
+        (dict(max_lag=50.0), "max_lag"),
+        (dict(sample_every=0.07), "sample_every"),
+        (dict(origin_every=0.75), "origin_every"),
+        (dict(dynamics="both"), "dynamics"),
+        (dict(n_blocks=100), "n_blocks"),
+        (dict(threads=0), "threads"),
+        (dict(test_sampling="uniform", n_test=5), "jbar_range"),
+    ],
+)
+def test_run_md_validates_inputs(state, change, word):
+    kw = dict(RUN, dynamics="full", n_particles=100, seed=0)
+    kw.update(change)
+    with pytest.raises(ValueError, match=word):
+        md.run_md(state, progress=None, **kw)
