@@ -13,6 +13,9 @@ from hmfdiff.config import check_config
 min_version("9.0")
 
 
+report: "workflow/report/workflow.rst"
+
+
 # The paper's configuration unless another one is given with --configfile (Snakemake would
 # otherwise merge the two, and a smoke run would inherit every paper case).
 if "cases" not in config:

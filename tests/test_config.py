@@ -58,6 +58,35 @@ def test_bad_values_name_case_and_field(path, value, match):
         check_config(cfg)
 
 
+@pytest.mark.parametrize(
+    "field,value,match",
+    [
+        (
+            "n_particles",
+            -5,
+            r"md run 'thermal_u-0.1': field 'n_particles' = -5 must be an integer >= 1",
+        ),
+        (
+            "dt",
+            0.0,
+            r"md run 'thermal_u-0.1': field 'dt' = 0.0 is outside the allowed range \(0.0, inf\)",
+        ),
+        (
+            "fit_window",
+            [10.0, 500.0],
+            r"field 'fit_window' = \[10.0, 500.0\] must satisfy .*max_lag",
+        ),
+        ("max_lag", 100.0, r"max_lag = 100.0 exceeds t_max = 60.0"),
+        ("sample_every", 0.25, r"'sample_every' = 0.25 must be a whole multiple of dt = 0.1"),
+    ],
+)
+def test_bad_md_settings(field, value, match):
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["runs"]["thermal_u-0.1"][field] = value
+    with pytest.raises(ConfigError, match=match):
+        check_config(cfg)
+
+
 def test_u_above_magnetised_branch():
     cfg = copy.deepcopy(SMOKE)
     cfg["cases"]["thermal_u-0.1"] = {"kind": "thermal", "u": 0.26}

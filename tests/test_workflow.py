@@ -177,3 +177,70 @@ def test_slurm_profile_dry_run(workdir):
 def test_one_figure_by_name(workdir):
     r = snakemake(["-n", "fig2", "--configfile", "config/smoke.yaml"], workdir, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
+
+
+def test_truncated_netcdf_input_is_named(workdir):
+    """A truncated intermediate stops the dependent rule with a message naming the file."""
+    eq = workdir / "results/equilibrium/thermal_M0.9.nc"
+    good = eq.read_bytes()
+    try:
+        eq.write_bytes(good[: len(good) // 3])
+        r = snakemake(
+            ["-j1", "results/orbits/thermal_M0.9.nc", "-f", "--configfile", "config/smoke.yaml"],
+            workdir,
+            timeout=300,
+        )
+        assert r.returncode != 0
+        log = (workdir / "logs/orbits/thermal_M0.9.log").read_text() + r.stderr
+        assert "thermal_M0.9.nc: not a readable netCDF file" in log
+        assert "truncated or corrupt" in log
+    finally:
+        eq.write_bytes(good)
+        snakemake(
+            ["-j1", "results/orbits/thermal_M0.9.nc", "-f", "--configfile", "config/smoke.yaml"],
+            workdir,
+            timeout=300,
+        )
+
+
+def test_killed_md_job_leaves_no_complete_looking_file(workdir):
+    """SIGKILL an MD job while it integrates: no output file appears (only a hidden .part),
+    and after `snakemake --unlock` the same command finishes the work."""
+    import os
+    import signal
+    import time
+
+    target = "results/md/thermal_u-0.1/full/seed9.nc"
+    cfg = yaml.safe_load((workdir / "config/smoke.yaml").read_text())
+    cfg["md"]["runs"]["thermal_u-0.1"]["seeds"] = 10  # a seed nobody has run yet
+    cfg["md"]["runs"]["thermal_u-0.1"]["t_max"] = 600.0
+    (workdir / "config/kill.yaml").write_text(yaml.safe_dump(cfg))
+    log = workdir / "logs/md/thermal_u-0.1/full/seed9.log"
+    cmd = [sys.executable, "-m", "snakemake", "-j1", target, "--configfile", "config/kill.yaml"]
+    proc = subprocess.Popen(
+        cmd,
+        cwd=workdir,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        deadline = time.time() + 240
+        while time.time() < deadline:
+            if log.exists() and "run_md[full] t =" in log.read_text():
+                break  # the integration is under way
+            time.sleep(0.5)
+        else:
+            pytest.fail("the MD job never started integrating")
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=30)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    out = workdir / target
+    assert not out.exists()
+    snakemake(["--unlock", "--configfile", "config/kill.yaml"], workdir, timeout=120)
+    r = snakemake(["-j2", target, "--configfile", "config/kill.yaml"], workdir, timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    ds = read_dataset(out, required=["sum_dJbar2"])
+    assert ds.attrs["seed"] == 9
