@@ -276,6 +276,7 @@ def validation_rows(case, fit, theory):
                 "ratio": float(ratio),
                 "z": float(z),
                 "flag": int(fit["flag"].values[i]),
+                "n_seeds": int(fit.attrs["n_seeds"]),
             }
         )
     return rows
@@ -304,7 +305,7 @@ def write_validation_csv(rows, path):
     from .io import atomic_path
 
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=VALIDATION_COLUMNS)
+        w = csv.DictWriter(fh, fieldnames=VALIDATION_COLUMNS, extrasaction="ignore")
         w.writeheader()
         for r in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
@@ -312,7 +313,12 @@ def write_validation_csv(rows, path):
 
 def summarise_validation(rows):
     """Per case and dynamics: bins used (flag 0, finite theory), median |ratio - 1|, |z| < 2."""
-    lines = ["case dynamics theory: bins_used  median|ratio-1|  fraction|z|<2"]
+    from scipy import stats
+
+    lines = [
+        "case dynamics theory: bins_used  median|ratio-1|  fraction|z|<2 "
+        "(expected for Student t with n_seeds - 1 dof)"
+    ]
     keys = []
     for r in rows:
         if (r["case"], r["dynamics"]) not in keys:
@@ -333,5 +339,9 @@ def summarise_validation(rows):
         dev = np.median([abs(r["ratio"] - 1) for r in sel])
         zs = np.array([r["z"] for r in sel])
         frac = np.mean(np.abs(zs[np.isfinite(zs)]) < 2) if np.isfinite(zs).any() else np.nan
-        lines.append(f"{case} {dyn} vs {theory}: {len(sel)}  {dev:.3f}  {frac:.2f}")
+        dof = max(int(sel[0].get("n_seeds", 2)) - 1, 1)
+        expected = stats.t.cdf(2, dof) - stats.t.cdf(-2, dof)
+        lines.append(
+            f"{case} {dyn} vs {theory}: {len(sel)}  {dev:.3f}  {frac:.2f} ({expected:.2f})"
+        )
     return "\n".join(lines)

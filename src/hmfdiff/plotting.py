@@ -187,7 +187,7 @@ def _state_label(ds):
     cfg = json.loads(ds.attrs.get("config", "{}"))
     label = rf"$M_0={M0:.4g}$"
     if "beta" in ds.attrs:
-        u = 0.5 / ds.attrs["beta"] - 0.5 * M0**2
+        u = round(0.5 / ds.attrs["beta"] - 0.5 * M0**2, 10) + 0.0  # no -0 or 1e-17
         label = rf"$(u, M_0)=({u:.4g}, {M0:.4g})$"
     return f"{ds.attrs.get('case', '')}: {label}" if not cfg else label
 
@@ -462,8 +462,12 @@ def _md_vs_theory(inputs, pdf, png, title):
         for r, (dyn, var, md_label, th_label) in enumerate(rows):
             ax = axes[r, j]
             fit = inputs[f"fit_{dyn}_{j}"]
-            ax.semilogy(th["Jbar"], th[var], "k-", lw=1.2, label=th_label)
             x = fit["jbar0"].values
+            xmax = np.nanmax(x) * 1.05
+            inside = th["Jbar"].values <= xmax
+            ax.semilogy(
+                th["Jbar"].values[inside], th[var].values[inside], "k-", lw=1.2, label=th_label
+            )
             y = fit["ND_md"].values
             e = fit["ND_md_err"].values
             ok = (fit["flag"].values == 0) & np.isfinite(y) & (y > 0)
@@ -492,7 +496,7 @@ def _md_vs_theory(inputs, pdf, png, title):
             ax.axvline(jsep, color="0.6", lw=0.9)
             ax.set_xlabel(r"$\bar J$ ($J/2$ for $\kappa<1$)")
             ax.set_ylabel(r"$N D_{dif}$")
-            ax.set_xlim(0, np.nanmax(fit["jbar0"].values) * 1.05)
+            ax.set_xlim(0, xmax)
             ax.set_title(f"({'abcdef'[j]}) {_state_label(th)}", fontsize=8)
             ax.legend(fontsize=6)
     fig.suptitle(title, fontsize=9)
