@@ -98,3 +98,30 @@ def test_flags_and_bad_window():
 def test_kappa_of_jbar_round_trip():
     k = np.array([0.2, 0.7, 0.99, 1.01, 1.5])
     np.testing.assert_allclose(kappa_of_jbar(orbits.rescaled_action(k, M0), M0), k, rtol=1e-9)
+
+
+def test_tracked_density_counts_every_particle():
+    """4 pi N f(kappa(J-bar)) per unit J-bar integrates to N over both orbit families, and the
+    uniform test particles add n_test: the weights of the theory's bin average are normalised."""
+    from scipy.integrate import quad
+
+    from hmfdiff.equilibrium import ThermalState
+    from hmfdiff.fits import theory_bin_average, tracked_density
+
+    st = ThermalState(u=-0.2)
+    fit = xr.Dataset({"M0": ((), st.M0)})
+    fit.attrs.update(
+        N=1000.0, n_test=50, dynamics="full", test_sampling="uniform", jbar_range=[0.0, 2.0]
+    )
+    js = orbits.action_separatrix(st.M0, +1)
+    rho = lambda j: float(tracked_density(np.array([j]), fit, st.f)[0])  # noqa: E731
+    total = quad(rho, 0, js, limit=200)[0] + quad(rho, js, 12.0, limit=200)[0]
+    assert total == pytest.approx(1000.0 + 50.0, rel=1e-6)
+    # a constant D averages to itself; the separatrix band makes a bin NaN
+    k = np.linspace(0.01, 3.0, 400)
+    D = np.where(np.abs(k - 1) < 0.01, np.nan, 2.5)
+    theory = xr.Dataset({"D_lenard_balescu": ("kappa", D)}, coords={"kappa": k})
+    fit["jbar_edges"] = ("edge", np.array([0.2, 0.5, js - 0.001, js + 0.2, js + 0.5]))
+    avg = theory_bin_average(theory, fit, st.f)
+    np.testing.assert_allclose(avg[[0, 3]], 2.5, rtol=1e-12)
+    assert np.isnan(avg[1]) and np.isnan(avg[2])  # these bins reach into the separatrix band

@@ -151,6 +151,8 @@ def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
     flag[~np.isfinite(ND)] = 3
 
     seeds = [int(ds.attrs.get("seed", i)) for i, ds in enumerate(datasets)]
+    jrange = ref.attrs.get("jbar_range", "none")
+    jrange = "none" if isinstance(jrange, str) else [float(x) for x in np.atleast_1d(jrange)]
     out = xr.Dataset(
         {
             "ND_md": (
@@ -214,6 +216,11 @@ def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
         },
         coords={
             "jbar0": ("bin", jbar0, {"units": "action", "long_name": "bin centre, J-bar_0"}),
+            "jbar_edges": (
+                "edge",
+                ref["jbar_edges"].values,
+                {"units": "action", "long_name": "edges of the J-bar_0 bins"},
+            ),
             "lag": ("lag", lag, {"units": "time", "long_name": "time lag dt"}),
             "seed": ("seed", seeds),
         },
@@ -227,6 +234,9 @@ def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
         error_method=method,
         dynamics=str(ref.attrs.get("dynamics", "")),
         D_convention="<dJ^2> = 2 D dt; N*D stored",
+        n_test=int(ref.attrs.get("n_test", 0)),
+        test_sampling=str(ref.attrs.get("test_sampling", "none")),
+        jbar_range=jrange,
     )
     return out
 
@@ -252,10 +262,62 @@ def theory_at_bins(theory, kappa0, dynamics):
     return out
 
 
-def validation_rows(case, fit, theory):
-    """Rows of results/validation.csv for one case and dynamics."""
+def tracked_density(jbar, fit, f_of_kappa):
+    """Number of tracked particles per unit J-bar at J-bar (up to a constant), for the bin average.
+
+    Particles drawn from f contribute 4 pi N f(kappa(J-bar)) per unit J-bar on both orbit
+    families (dJ/dJ-bar = 2 on librating orbits, where a kappa labels one torus; 1 on rotating
+    orbits, where it labels two); test particles drawn uniformly in J-bar contribute
+    n_test / (J-bar range).  MD(bath) tracks its test particles only; MD(full) tracks all N.
+    """
+    M0 = float(fit["M0"])
+    k = kappa_of_jbar(jbar, M0)
+    N = float(fit.attrs["N"])
+    n_test = int(fit.attrs.get("n_test", 0))
+    rho = np.zeros_like(jbar, dtype=float)
+    if fit.attrs["dynamics"] == "full":
+        rho += 4.0 * np.pi * N * f_of_kappa(k)
+    if n_test:
+        rng = fit.attrs.get("jbar_range", "none")
+        if fit.attrs.get("test_sampling") == "uniform" and not isinstance(rng, str):
+            lo, hi = np.asarray(rng, dtype=float)[:2]
+            rho += np.where((jbar >= lo) & (jbar <= hi), n_test / (hi - lo), 0.0)
+        else:
+            rho += 4.0 * np.pi * n_test * f_of_kappa(k)
+    return rho
+
+
+def theory_bin_average(theory, fit, f_of_kappa, n_sub=41):
+    """N*D of the theory averaged over each J-bar_0 bin with the density of tracked particles.
+
+    The MD measures the mean of dJ^2 over the particles of a bin, i.e. the density-weighted
+    average of D over the bin; where D has narrow structure (weakly damped modes, steps of the
+    resonance staircase) this differs from D at the bin centre.  NaN for bins that reach into
+    the masked separatrix band or beyond the theory grid.
+    """
+    edges = fit["jbar_edges"].values
+    M0 = float(fit["M0"])
+    out = np.full(edges.size - 1, np.nan)
+    for i, (a, b) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
+        jb = np.linspace(a, b, n_sub + 2)[1:-1]
+        D = theory_at_bins(theory, kappa_of_jbar(jb, M0), fit.attrs["dynamics"])
+        w = tracked_density(jb, fit, f_of_kappa)
+        if np.all(np.isfinite(D)) and w.sum() > 0:
+            out[i] = np.sum(D * w) / np.sum(w)
+    return out
+
+
+def validation_rows(case, fit, theory, f_of_kappa=None):
+    """Rows of results/validation.csv for one case and dynamics.
+
+    ND_theory is the bin average of the theory (`theory_bin_average`) when f_of_kappa is given,
+    else the theory at the bin centre.
+    """
     dyn = fit.attrs["dynamics"]
-    th = theory_at_bins(theory, fit["kappa0"].values, dyn)
+    if f_of_kappa is not None:
+        th = theory_bin_average(theory, fit, f_of_kappa)
+    else:
+        th = theory_at_bins(theory, fit["kappa0"].values, dyn)
     nd, err = fit["ND_md"].values, fit["ND_md_err"].values
     rows = []
     for i in range(fit.sizes["bin"]):

@@ -48,7 +48,10 @@ rule validation:
     input:
         fits=[f"results/fits/{c}_{d}.nc" for c in md_cases() for d in ("bath", "full")],
         theory=[f"results/theory/{c}.nc" for c in md_cases() for d in ("bath", "full")],
-        lib=lib("fits", "io"),
+        equilibrium=[
+            f"results/equilibrium/{c}.nc" for c in md_cases() for d in ("bath", "full")
+        ],
+        lib=lib("fits", "datasets", "equilibrium", "io"),
     output:
         table=report(
             "results/validation.csv",

@@ -1,5 +1,6 @@
 """Rule validation: results/validation.csv (MD against theory) and a printed summary."""
 
+from hmfdiff.datasets import state_from_dataset
 from hmfdiff.fits import summarise_validation, validation_rows, write_validation_csv
 from hmfdiff.io import read_dataset
 from hmfdiff.runtime import get_logger
@@ -7,10 +8,11 @@ from hmfdiff.runtime import get_logger
 sm = snakemake  # noqa: F821
 log = get_logger("validation", sm.log[0])
 rows = []
-for case, fit_path, theory_path in zip(
-    sm.params.cases, sm.input.fits, sm.input.theory, strict=True
+for case, fit_path, theory_path, eq_path in zip(
+    sm.params.cases, sm.input.fits, sm.input.theory, sm.input.equilibrium, strict=True
 ):
-    rows += validation_rows(case, read_dataset(fit_path), read_dataset(theory_path))
+    state = state_from_dataset(read_dataset(eq_path, required=["M0"]))
+    rows += validation_rows(case, read_dataset(fit_path), read_dataset(theory_path), state.f)
 write_validation_csv(rows, sm.output.table)
 summary = summarise_validation(rows)
 with open(sm.output.summary, "w") as fh:
