@@ -176,13 +176,17 @@ def _sincos_wrapped_kernel(x, s_out, c_out):
         c_out[i] = c
 
 
-def sincos_wrapped_array(x):
-    """(sin x, cos x) by the half-angle polynomial of the MD step, for |x| <= pi."""
+def _sincos_with(kernel, x):
     x = np.ascontiguousarray(x, dtype=np.float64).ravel()
     s = np.empty_like(x)
     c = np.empty_like(x)
-    _sincos_wrapped_kernel(x, s, c)
+    kernel(x, s, c)
     return s, c
+
+
+def sincos_wrapped_array(x):
+    """(sin x, cos x) by the half-angle polynomial of the MD step, for |x| <= pi."""
+    return _sincos_with(_sincos_wrapped_kernel, x)
 
 
 @njit(fastmath=_FM)
@@ -195,11 +199,7 @@ def _sincos_kernel(x, s_out, c_out):
 
 def sincos_array(x):
     """Vectorised polynomial (sin x, cos x) used by the MD kernels (exposed for tests)."""
-    x = np.ascontiguousarray(x, dtype=np.float64).ravel()
-    s = np.empty_like(x)
-    c = np.empty_like(x)
-    _sincos_kernel(x, s, c)
-    return s, c
+    return _sincos_with(_sincos_kernel, x)
 
 
 @njit(fastmath=_FM)

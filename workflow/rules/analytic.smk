@@ -9,6 +9,10 @@ rule closed_forms:
         "logs/analytic/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=15,
     params:
         grid=lambda w: json.dumps(config["closed_forms"], sort_keys=True),
     script:

@@ -8,6 +8,10 @@ rule equilibrium:
         "logs/equilibrium/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=15,
     params:
         spec=case_spec,
         grid=lambda w: json.dumps(config["grids"]["equilibrium"], sort_keys=True),

@@ -11,6 +11,10 @@ rule figure:
         name="|".join(FIGURES),
     conda:
         "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=15,
     params:
         name="{name}",
         cases=lambda w: figure_cases(w.name),

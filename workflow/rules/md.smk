@@ -37,6 +37,10 @@ rule fit:
         dynamics="bath|full",
     conda:
         "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=15,
     params:
         fit=lambda w: json.dumps(md_fit_spec(w.case), sort_keys=True),
     script:
@@ -63,6 +67,10 @@ rule validation:
         "logs/validation.log",
     conda:
         "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=15,
     params:
         cases=[c for c in md_cases() for d in ("bath", "full")],
     script:

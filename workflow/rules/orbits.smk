@@ -9,6 +9,10 @@ rule orbits:
         "logs/orbits/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=15,
     params:
         grid=lambda w: json.dumps(config["grids"]["orbits"], sort_keys=True),
     script:
