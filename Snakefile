@@ -2,7 +2,7 @@
 #
 #   snakemake -j2                                   # every target, paper size
 #   snakemake -j2 --configfile config/smoke.yaml    # the same pipeline at toy size
-#   snakemake -j2 fig2                              # one figure (fig1 ... fig6 so far)
+#   snakemake -j2 fig2                              # one figure (fig1 ... fig10)
 #
 # Every intermediate is a netCDF file under results/; see README.md.
 

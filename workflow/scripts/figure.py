@@ -1,4 +1,4 @@
-"""Rule fig*: draw one figure of the paper from its netCDF inputs (PDF and PNG)."""
+"""Rule figure: draw one figure of the paper from its netCDF inputs (PDF and PNG)."""
 
 from hmfdiff.io import read_dataset
 from hmfdiff.plotting import FIGURES
