@@ -8,7 +8,7 @@
 
 from snakemake.utils import min_version, validate
 
-from hmfdiff.config import check_config
+from hmfdiff.pipeline.config import check_config
 
 min_version("9.0")
 

@@ -1,4 +1,4 @@
-"""Benchmark of the HMF molecular dynamics kernels (hmfdiff.md) at the paper's N = 5e5.
+"""Benchmark of the HMF molecular dynamics kernels (hmfdiff.dynamics.md) at the paper's N = 5e5.
 
 Prints particle-steps per second of the full dynamics (eq. hmfmdfull) and of the bath dynamics
 (eq. hmfmdbath: N_b bath particles in the static field plus test particles), the cost of one
@@ -25,7 +25,8 @@ import time
 import numba
 import numpy as np
 
-from hmfdiff import equilibrium, md, orbits, sampling
+from hmfdiff.dynamics import accumulator, elementary, integrator, md, sampling
+from hmfdiff.meanfield import equilibrium, orbits
 
 M0 = 0.72846
 
@@ -84,30 +85,34 @@ def measure(n, threads, n_test_bath):
     th_t, p_t = sampling.sample_thermal(state, n_test_bath, rng)
     dt = 0.05
     # warm the compiler on small arrays (same types)
-    small = md.Particles(th[:100], p[:100])
-    md.advance_system("full", small, md.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0)
-    md.advance_system("bath", small, md.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0)
-    md.actions(th[:100], p[:100], M0, 0.1)
+    small = integrator.Particles(th[:100], p[:100])
+    integrator.advance_system(
+        "full", small, integrator.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0
+    )
+    integrator.advance_system(
+        "bath", small, integrator.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0
+    )
+    elementary.actions(th[:100], p[:100], M0, 0.1)
 
     n_steps = 200
-    P = md.Particles(th, p)
-    empty = md.Particles(np.zeros(0), np.zeros(0))
+    P = integrator.Particles(th, p)
+    empty = integrator.Particles(np.zeros(0), np.zeros(0))
     M = P.moments()[:2]
-    t_full = best_of(lambda: md.advance_system("full", P, empty, M, n_steps, dt, M0))
+    t_full = best_of(lambda: integrator.advance_system("full", P, empty, M, n_steps, dt, M0))
     # load-robust figure: one thread, CPU time of this process (what a core delivers)
     numba.set_num_threads(1)
     cpu = np.inf
     for _ in range(3):
         c0 = time.process_time()
-        md.advance_system("full", P, empty, M, n_steps, dt, M0)
+        integrator.advance_system("full", P, empty, M, n_steps, dt, M0)
         cpu = min(cpu, time.process_time() - c0)
     numba.set_num_threads(threads)
-    B, T = md.Particles(th, p), md.Particles(th_t, p_t)
-    t_bath = best_of(lambda: md.advance_system("bath", B, T, M, n_steps, dt, M0))
-    t_act = best_of(lambda: md.actions(P.theta, P.p, M0, 0.01), reps=5)
+    B, T = integrator.Particles(th, p), integrator.Particles(th_t, p_t)
+    t_bath = best_of(lambda: integrator.advance_system("bath", B, T, M, n_steps, dt, M0))
+    t_act = best_of(lambda: elementary.actions(P.theta, P.p, M0, 0.01), reps=5)
     # <dJ^2> accumulation: cost per (active origin, particle) at one sampling time
-    J, Jb = md.actions(P.theta, P.p, M0, 0.01)
-    acc = md.DisplacementAccumulator(n, np.linspace(0.0, 2.0, 41), 200, 100, 5, 4)
+    J, Jb = elementary.actions(P.theta, P.p, M0, 0.01)
+    acc = accumulator.DisplacementAccumulator(n, np.linspace(0.0, 2.0, 41), 200, 100, 5, 4)
     for s in range(101):
         acc.add(s, J, Jb)  # fills the ring buffer: 21 active origins from s = 100 on
     t_acc = best_of(lambda: acc.add(101, J, Jb), reps=3) / (21 * n)

@@ -1,8 +1,8 @@
-"""Tests of the paper's closed forms (hmfdiff.analytic) against independent computations.
+"""Tests of the paper's closed forms (kinetic.analytic) against independent computations.
 
 Independent ingredients used here (none of them goes through the closed forms under test):
 * c_n, sigma_n by FFT of cos(theta(w)), sin(theta(w)) along the orbit (orbits.phase_point,
-  Jacobi elliptic functions), not through the nome formulas of hmfdiff.fourier;
+  Jacobi elliptic functions), not through the nome formulas of hmfdiff.meanfield.fourier;
 * dJ/dkappa and dOmega/dkappa by central finite differences of orbits.action / .frequency;
 * the general dielectric formula eps = 1 + 2 pi sum_l int W X_l^2 f'/(Omega - omega/l) evaluated
   by adaptive quadrature with QUADPACK's Cauchy (principal value) weight around each pole,
@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from hmfdiff import analytic as A
-from hmfdiff import orbits
-from hmfdiff.equilibrium import CoreHaloState, ThermalState
-from hmfdiff.fourier import cos_coefficient, sin_coefficient_imag
+from hmfdiff.kinetic import analytic as A
+from hmfdiff.meanfield import orbits
+from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState
+from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient_imag
 
 CH = (0.298, 0.051, -0.517, 0.19)  # eta1, eta2, mu1, mu2 of the paper's ch* states
 
@@ -400,7 +400,7 @@ def test_mb_printed_real_part_cc():
     # printed ss constant term 64 pi sinh(b M0)/sqrt(M0) per half vs the right 16 pi C sinh/s
     assert 64 * np.pi * np.sinh(b * M0) / s > 1e3 * abs(16 * np.pi * C * np.sinh(b * M0) / s)
 
-    # the corrected printed forms (see the module docstring of hmfdiff.analytic), term by term
+    # the corrected printed forms (see the module docstring of kinetic.analytic), term by term
     def half_ss(w):
         a3 = np.exp(8 * b * s * w - 7 * b * M0)
         x3, x4 = 8 * b * (M0 - s * w), 6 * b * M0 - 8 * b * s * w
@@ -477,7 +477,7 @@ def test_mb_D_identity_and_limits():
 
 # ----------------------------------------------------------------------------- cross-checks
 def test_against_numerical_modules():
-    """If hmfdiff.dielectric / hmfdiff.diffusion import: (a) their eps of the beta = 1000 Fermi
+    """If kinetic.dielectric / kinetic.diffusion import: (a) their eps of the beta = 1000 Fermi
     core-halo matches the two-step closed form (|diff| < 1e-4); (b) their Landau D with
     n_max = 3 equals landau_coefficients_resonant(include_rotating=True), D and D_pol, for
     kappa = 0.1 ... 2 (measured relative 5e-14);
@@ -487,8 +487,8 @@ def test_against_numerical_modules():
     file's quadrature agree (measured 1.5e-8 thermal M0 = 0.728, 1.6e-11 Fermi beta = 1000).
     Measured (a): 2.8e-5."""
     try:
-        from hmfdiff.dielectric import dielectric_tensor
-        from hmfdiff.diffusion import diffusion_coefficients
+        from hmfdiff.kinetic.dielectric import dielectric_tensor
+        from hmfdiff.kinetic.diffusion import diffusion_coefficients
     except ImportError as exc:  # pragma: no cover - depends on the other modules' state
         pytest.skip(f"numerical modules not importable: {exc}")
     step = CoreHaloState(*CH, shape="step")

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hmfdiff.config import ConfigError, check_config
+from hmfdiff.pipeline.config import ConfigError, check_config
 
 ROOT = Path(__file__).resolve().parents[1]
 SMOKE = yaml.safe_load((ROOT / "config" / "smoke.yaml").read_text())

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 from scipy import integrate, optimize, special
 
-from hmfdiff import orbits
-from hmfdiff.dielectric import DielectricTensor, dielectric_tensor
-from hmfdiff.equilibrium import CoreHaloState, ThermalState
-from hmfdiff.fourier import cos_coefficient, sin_coefficient_imag
+from hmfdiff.kinetic.dielectric import DielectricTensor, dielectric_tensor
+from hmfdiff.meanfield import orbits
+from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState
+from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient_imag
 
 
 @pytest.fixture(scope="module")
@@ -55,7 +55,7 @@ def test_eps_cc_static_limit_thermal(thermal):
     With f' = -beta Omega J' f the l-sum at omega = 0 is -beta int f sum_{l!=0} c_l^2, and
     Parseval turns it into the variance of cos(theta) around its orbit average; <cos^2> =
     1 - 1/beta from Bessel-function identities; <c_0^2> by the phase-space quadrature of
-    hmfdiff.equilibrium (independent of the Omega-variable quadrature).
+    hmfdiff.meanfield.equilibrium (independent of the Omega-variable quadrature).
     """
     b = thermal.beta
     q = thermal.quadrature()
@@ -82,7 +82,7 @@ def _reference_term(state, l, omega, comp, kmax):
     """int dkappa W coef_l^2 f' / (Omega - omega/l) with omega + i0, by scipy.quad in kappa.
 
     Principal values with QAWC (weight='cauchy'); the pole found with brentq.  Nothing is
-    shared with hmfdiff.dielectric but the coefficients and the orbit functions.
+    shared with hmfdiff.kinetic.dielectric but the coefficients and the orbit functions.
     """
     M0 = state.M0
     coef = cos_coefficient if comp == "cc" else sin_coefficient_imag

@@ -5,12 +5,12 @@ import pytest
 from scipy import special
 from scipy.special import ellipe, ellipk
 
-from hmfdiff import orbits
-from hmfdiff.diffusion import diffusion_coefficients
-from hmfdiff.equilibrium import CoreHaloState, ThermalState
-from hmfdiff.fourier import cos_coefficient, sin_coefficient, sin_coefficient_imag
-from hmfdiff.resonances import resonant_kappas
-from hmfdiff.theory import theory_dataset
+from hmfdiff.kinetic.diffusion import diffusion_coefficients
+from hmfdiff.kinetic.resonances import resonant_kappas
+from hmfdiff.kinetic.theory import theory_dataset
+from hmfdiff.meanfield import orbits
+from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState
+from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient, sin_coefficient_imag
 
 KAPPA = np.array([0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.3, 1.6, 2.0])
 
@@ -58,7 +58,7 @@ def test_thermal_zero_flux(states, name, collective):
 def test_cross_terms_cancel():
     """The paper's |c_n c'_n'/eps_cc - s_n s'_n'/eps_ss|^2 summed over both directions of rotation
     of kappa* (and of the test orbit) equals W(kappa*) [c^2 c'^2/|eps_cc|^2 + sigma^2 sigma'^2/
-    |eps_ss|^2], the bracket used in hmfdiff.diffusion; on librating kappa* it holds with one
+    |eps_ss|^2], the bracket used in kinetic.diffusion; on librating kappa* it holds with one
     term since c_n' and s_n' are never both non-zero."""
     rng = np.random.default_rng(1)
     e_cc, e_ss = rng.normal(size=2) + 1j * rng.normal(size=2)

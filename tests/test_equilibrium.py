@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy import special
 
-from hmfdiff import equilibrium as eq
+from hmfdiff.meanfield import equilibrium as eq
 
 
 def phase_space_moments(f_energy, M0, n_theta=1024, n_p=6001, p_max=None):

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from hmfdiff import orbits
-from hmfdiff.fits import FitError, diffusion_fit, fit_slope, kappa_of_jbar
+from hmfdiff.analysis.fits import FitError, diffusion_fit, fit_slope, kappa_of_jbar
+from hmfdiff.meanfield import orbits
 
 M0 = 0.6
 
@@ -105,8 +105,8 @@ def test_tracked_density_counts_every_particle():
     uniform test particles add n_test: the weights of the theory's bin average are normalised."""
     from scipy.integrate import quad
 
-    from hmfdiff.equilibrium import ThermalState
-    from hmfdiff.fits import theory_bin_average, tracked_density
+    from hmfdiff.analysis.fits import theory_bin_average, tracked_density
+    from hmfdiff.meanfield.equilibrium import ThermalState
 
     st = ThermalState(u=-0.2)
     fit = xr.Dataset({"M0": ((), st.M0)})

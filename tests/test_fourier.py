@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from conftest import integrate_orbit
 
-from hmfdiff.fourier import cos_coefficient, sin_coefficient
+from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient
 
 M0 = 0.6
 N = np.arange(-6, 7)

@@ -1,4 +1,4 @@
-"""Tests of the HMF molecular dynamics (hmfdiff.md): kernels against numpy / scipy, the
+"""Tests of the HMF molecular dynamics (hmfdiff.dynamics.md): kernels against numpy / scipy, the
 integrator's conservation laws and reversibility, the frame of the magnetisation, determinism,
 and the <dJ^2> accumulator on synthetic data with a known answer."""
 
@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from hmfdiff import equilibrium, md, orbits, sampling
+from hmfdiff.dynamics import accumulator, elementary, integrator, md, sampling
+from hmfdiff.meanfield import equilibrium, orbits
 
 M0 = 0.72846  # paper case (u, M0) = (-0.1, 0.72846)
 
@@ -26,7 +27,7 @@ def thermal_particles(state, n, seed):
 def test_sincos_matches_numpy():
     x = np.linspace(-4 * np.pi, 4 * np.pi, 400_001)
     x = np.concatenate([x, np.arange(-8, 9) * np.pi / 4, np.arange(-8, 9) * np.pi / 2 + 1e-9])
-    s, c = md.sincos_array(x)
+    s, c = elementary.sincos_array(x)
     ts, tc = np.sin(x), np.cos(x)
     assert np.max(np.abs(s - ts)) < 4.5e-16
     assert np.max(np.abs(c - tc)) < 4.5e-16
@@ -38,7 +39,7 @@ def test_sincos_matches_numpy():
 def test_wrapped_sincos_matches_numpy():
     """The half-angle sincos of the MD step, on its domain [-pi, pi] (angles are wrapped)."""
     x = np.concatenate([np.linspace(-np.pi, np.pi, 400_001), [-np.pi, np.pi, 0.0, 1e-300]])
-    s, c = md.sincos_wrapped_array(x)
+    s, c = elementary.sincos_wrapped_array(x)
     ts, tc = np.sin(x), np.cos(x)
     assert np.max(np.abs(s - ts)) < 6e-16
     assert np.max(np.abs(c - tc)) < 6e-16
@@ -58,7 +59,7 @@ def test_action_agm_matches_orbits():
         ]
     )
     for m0 in (0.05, M0, 0.95):
-        J, Jb = md.action_numba(kappa, m0)
+        J, Jb = elementary.action_numba(kappa, m0)
         Jref = orbits.action(kappa, m0)
         assert np.max(np.abs(J / Jref - 1)) < 1e-13
         np.testing.assert_array_equal(Jb, np.where(kappa < 1, 0.5 * J, J))
@@ -73,7 +74,7 @@ def test_actions_of_phase_points(state):
     sign = np.where(rng.random(kappa.size) < 0.5, -1.0, 1.0)
     th, p = orbits.phase_point(w, kappa, M0, sign)
     alpha = 2.1
-    J, Jb = md.actions(sampling.wrap_angle(th + alpha), p, M0, phase=alpha)
+    J, Jb = elementary.actions(sampling.wrap_angle(th + alpha), p, M0, phase=alpha)
     Jref = orbits.action(kappa, M0)
     assert np.max(np.abs(J / Jref - 1)) < 1e-11
     np.testing.assert_allclose(Jb, orbits.rescaled_action(kappa, M0), rtol=1e-11)
@@ -87,7 +88,7 @@ def test_actions_of_phase_points(state):
         ]
     )
     p = 2 * np.sqrt(M0) * kx
-    J, _ = md.actions(np.zeros_like(p), p, M0)
+    J, _ = elementary.actions(np.zeros_like(p), p, M0)
     assert np.max(np.abs(J / orbits.action(p / (2 * np.sqrt(M0)), M0) - 1)) < 1e-13
 
 
@@ -99,7 +100,7 @@ def test_full_dynamics_conserves_energy_and_momentum(state):
     th, p = thermal_particles(state, 4000, seed=3)
     errs = []
     for dt in (0.05, 0.025):
-        P = md.Particles(th, p)
+        P = integrator.Particles(th, p)
 
         def energy_momentum(P=P):
             m = P.moments()
@@ -108,7 +109,7 @@ def test_full_dynamics_conserves_energy_and_momentum(state):
         e0, p0 = energy_momentum()
         err, perr = 0.0, 0.0
         for _ in range(int(round(100 / dt / 40))):
-            md.leapfrog(P, 40, dt, "self")
+            integrator.leapfrog(P, 40, dt, "self")
             e, pm = energy_momentum()
             err = max(err, abs(e - e0) / abs(e0))
             perr = max(perr, abs(pm - p0))
@@ -120,10 +121,10 @@ def test_full_dynamics_conserves_energy_and_momentum(state):
 
 def test_time_reversibility(state):
     th, p = thermal_particles(state, 3000, seed=4)
-    P = md.Particles(th, p)
-    md.leapfrog(P, 1000, 0.05, "self")
+    P = integrator.Particles(th, p)
+    integrator.leapfrog(P, 1000, 0.05, "self")
     assert np.max(np.abs(P.p - p)) > 1e-2  # it did move
-    md.leapfrog(P, 1000, -0.05, "self")
+    integrator.leapfrog(P, 1000, -0.05, "self")
     assert np.max(np.abs(sampling.wrap_angle(P.theta - th))) < 1e-10
     assert np.max(np.abs(P.p - p)) < 1e-10
 
@@ -142,17 +143,17 @@ def test_static_field_pendulum_keeps_action_and_matches_ode():
     J0 = orbits.action(kappa, M0)
     errs = []
     for dt in (0.05, 0.025):
-        P = md.Particles(th0, p0)
+        P = integrator.Particles(th0, p0)
         err = 0.0
         for _ in range(25):
-            md.leapfrog(P, int(round(4 / dt)), dt, "static", M0, 0.0)
-            err = max(err, np.max(np.abs(md.actions(P.theta, P.p, M0)[0] / J0 - 1)))
+            integrator.leapfrog(P, int(round(4 / dt)), dt, "static", M0, 0.0)
+            err = max(err, np.max(np.abs(elementary.actions(P.theta, P.p, M0)[0] / J0 - 1)))
         errs.append(err)
     assert errs[0] < 2e-3
     assert 3.0 < errs[0] / errs[1] < 5.5
     # trajectory against scipy's DOP853 over t = 10
-    P = md.Particles(th0[::8], p0[::8])
-    md.leapfrog(P, 10000, 0.001, "static", M0, 0.0)
+    P = integrator.Particles(th0[::8], p0[::8])
+    integrator.leapfrog(P, 10000, 0.001, "static", M0, 0.0)
     y0 = np.concatenate([th0[::8], p0[::8]])
     n = y0.size // 2
     sol = solve_ivp(
@@ -173,15 +174,15 @@ def test_rotation_leaves_frame_actions_unchanged(state):
     th, p = thermal_particles(state, 2000, seed=6)
     th = sampling.wrap_angle(th + 0.3)  # magnetisation off the x axis
     alpha = 1.234
-    P1, P2 = md.Particles(th, p), md.Particles(th + alpha, p)
+    P1, P2 = integrator.Particles(th, p), integrator.Particles(th + alpha, p)
     for k in range(2):
         J = []
         for P in (P1, P2):
             m = P.moments()
-            J.append(md.actions(P.theta, P.p, M0, np.arctan2(m[1], m[0]))[0])
+            J.append(elementary.actions(P.theta, P.p, M0, np.arctan2(m[1], m[0]))[0])
         assert np.max(np.abs(J[0] - J[1])) < (1e-12 if k == 0 else 1e-8)
         for P in (P1, P2):
-            md.leapfrog(P, 200, 0.05, "self")
+            integrator.leapfrog(P, 200, 0.05, "self")
 
 
 # ------------------------------------------------------------------ accumulator
@@ -193,7 +194,7 @@ def test_accumulator_deterministic_drift():
     a = rng.uniform(0.5, 2.0, n)  # rotating (J-bar = J)
     v = rng.normal(0, 0.01, n)
     edges = np.array([0.4, 1.0, 1.5, 2.5])
-    acc = md.DisplacementAccumulator(n, edges, n_samp, max_lag, oe, nb)
+    acc = accumulator.DisplacementAccumulator(n, edges, n_samp, max_lag, oe, nb)
     traj = a[None, :] + v[None, :] * np.arange(n_samp)[:, None]
     for s in range(n_samp):
         acc.add(s, traj[s], traj[s])
@@ -222,7 +223,7 @@ def test_accumulator_random_walk_librating():
     n, n_samp, max_lag, oe = 20000, 60, 20, 5
     sigma = 1e-3
     jb = np.cumsum(rng.normal(0, sigma, (n_samp, n)), axis=0) + rng.uniform(0.2, 0.4, n)
-    acc = md.DisplacementAccumulator(n, [0.0, 0.3, 1.0], n_samp, max_lag, oe, 4)
+    acc = accumulator.DisplacementAccumulator(n, [0.0, 0.3, 1.0], n_samp, max_lag, oe, 4)
     for s in range(n_samp):
         acc.add(s, 2 * jb[s], jb[s])
     msd_bar = acc.acc[1].sum(-1) / acc.acc[3].sum(-1)

@@ -5,7 +5,7 @@ import pytest
 from conftest import integrate_orbit
 from scipy.integrate import quad
 
-from hmfdiff import orbits
+from hmfdiff.meanfield import orbits
 
 M0 = 0.7
 KAPPAS = [0.01, 0.2, 0.5, 0.8, 0.95, 0.999, 1.001, 1.05, 1.5, 3.0, 20.0]

@@ -1,11 +1,12 @@
-"""Tests of the MD initial conditions (hmfdiff.sampling): the kappa marginal of the samples
+"""Tests of the MD initial conditions (hmfdiff.dynamics.sampling): the kappa marginal of the samples
 against f integrated by the independent phase-space quadrature (chi-square, fixed seeds)."""
 
 import numpy as np
 import pytest
 from scipy import stats
 
-from hmfdiff import equilibrium, orbits, sampling
+from hmfdiff.dynamics import sampling
+from hmfdiff.meanfield import equilibrium, orbits
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import yaml
 
-from hmfdiff.io import read_dataset
+from hmfdiff.pipeline.io import read_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 

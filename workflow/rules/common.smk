@@ -5,7 +5,11 @@ import json
 
 def lib(*modules):
     """Library files imported by a step; editing one of them reruns the step."""
-    return [f"src/hmfdiff/{m}.py" for m in modules]
+    from pathlib import Path
+
+    return sorted(
+        str(p) for m in modules for p in Path("src/hmfdiff").glob(f"*/{m}.py")
+    )
 
 
 def case_spec(wildcards):

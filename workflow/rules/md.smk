@@ -2,7 +2,17 @@ rule md:
     """One MD realisation (seed): MD(bath) or MD(full), with <dJ^2> accumulated on the fly."""
     input:
         equilibrium="results/equilibrium/{case}.nc",
-        lib=lib("md", "sampling", "orbits", "equilibrium", "datasets", "io"),
+        lib=lib(
+            "md",
+            "elementary",
+            "integrator",
+            "accumulator",
+            "sampling",
+            "orbits",
+            "equilibrium",
+            "datasets",
+            "io",
+        ),
     output:
         "results/md/{case}/{dynamics}/seed{seed}.nc",
     log:

@@ -2,9 +2,9 @@
 
 import json
 
-from hmfdiff.datasets import closed_forms_dataset, state_from_dataset
-from hmfdiff.io import read_dataset, write_dataset
-from hmfdiff.runtime import get_logger
+from hmfdiff.pipeline.datasets import closed_forms_dataset, state_from_dataset
+from hmfdiff.pipeline.io import read_dataset, write_dataset
+from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821
 log = get_logger("closed_forms", sm.log[0])

@@ -2,10 +2,10 @@
 
 import json
 
-from hmfdiff.datasets import equilibrium_dataset
-from hmfdiff.equilibrium import make_state
-from hmfdiff.io import write_dataset
-from hmfdiff.runtime import get_logger
+from hmfdiff.meanfield.equilibrium import make_state
+from hmfdiff.pipeline.datasets import equilibrium_dataset
+from hmfdiff.pipeline.io import write_dataset
+from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821
 log = get_logger("equilibrium", sm.log[0])

@@ -1,8 +1,8 @@
 """Rule figure: draw one figure of the paper from its netCDF inputs (PDF and PNG)."""
 
-from hmfdiff.io import read_dataset
-from hmfdiff.plotting import FIGURES
-from hmfdiff.runtime import get_logger
+from hmfdiff.analysis.plotting import FIGURES
+from hmfdiff.pipeline.io import read_dataset
+from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821
 name = sm.params.name

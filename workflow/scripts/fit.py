@@ -2,9 +2,9 @@
 
 import json
 
-from hmfdiff.fits import diffusion_fit
-from hmfdiff.io import read_dataset, write_dataset
-from hmfdiff.runtime import get_logger
+from hmfdiff.analysis.fits import diffusion_fit
+from hmfdiff.pipeline.io import read_dataset, write_dataset
+from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821
 log = get_logger("fit", sm.log[0])

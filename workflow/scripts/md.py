@@ -4,11 +4,11 @@ import json
 
 import numpy as np
 
-from hmfdiff import orbits
-from hmfdiff.datasets import state_from_dataset
-from hmfdiff.io import read_dataset, write_dataset
-from hmfdiff.md import run_md
-from hmfdiff.runtime import get_logger, set_threads
+from hmfdiff.dynamics.md import run_md
+from hmfdiff.meanfield import orbits
+from hmfdiff.pipeline.datasets import state_from_dataset
+from hmfdiff.pipeline.io import read_dataset, write_dataset
+from hmfdiff.pipeline.runtime import get_logger, set_threads
 
 sm = snakemake  # noqa: F821
 log = get_logger("md", sm.log[0])

@@ -3,10 +3,10 @@
 import json
 import time
 
-from hmfdiff.datasets import state_from_dataset
-from hmfdiff.io import read_dataset, write_dataset
-from hmfdiff.runtime import get_logger
-from hmfdiff.theory import theory_dataset
+from hmfdiff.kinetic.theory import theory_dataset
+from hmfdiff.pipeline.datasets import state_from_dataset
+from hmfdiff.pipeline.io import read_dataset, write_dataset
+from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821
 log = get_logger("theory", sm.log[0])

@@ -1,9 +1,9 @@
 """Rule validation: results/validation.csv (MD against theory) and a printed summary."""
 
-from hmfdiff.datasets import state_from_dataset
-from hmfdiff.fits import summarise_validation, validation_rows, write_validation_csv
-from hmfdiff.io import read_dataset
-from hmfdiff.runtime import get_logger
+from hmfdiff.analysis.fits import summarise_validation, validation_rows, write_validation_csv
+from hmfdiff.pipeline.datasets import state_from_dataset
+from hmfdiff.pipeline.io import read_dataset
+from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821
 log = get_logger("validation", sm.log[0])

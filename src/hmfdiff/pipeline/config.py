@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import re
 
-from .equilibrium import U_CRITICAL, U_MINIMUM
+from ..meanfield.equilibrium import U_CRITICAL, U_MINIMUM
 
 __all__ = ["ConfigError", "check_config", "CASE_NAME"]
 

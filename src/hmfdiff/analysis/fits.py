@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from . import orbits
+from ..meanfield import orbits
 
 __all__ = ["FitError", "fit_slope", "diffusion_fit", "theory_at_bins", "validation_rows"]
 
@@ -364,7 +364,7 @@ def write_validation_csv(rows, path):
     """Write the validation rows as CSV, atomically."""
     import csv
 
-    from .io import atomic_path
+    from ..pipeline.io import atomic_path
 
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=VALIDATION_COLUMNS, extrasaction="ignore")

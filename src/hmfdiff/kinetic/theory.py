@@ -13,7 +13,7 @@ import json
 import numpy as np
 import xarray as xr
 
-from . import orbits
+from ..meanfield import orbits
 from .dielectric import DielectricTensor
 from .diffusion import _coefficients_from_table, resonance_table
 
@@ -51,7 +51,7 @@ def theory_dataset(
     if getattr(state, "shape", "fermi") == "step":
         raise NotImplementedError(
             "the two-step core-halo state (shape='step') has delta-function df/dkappa: its "
-            "dielectric tensor and diffusion coefficients are the closed forms of hmfdiff.analytic"
+            "dielectric tensor and diffusion coefficients are the closed forms of kinetic.analytic"
         )
     M0 = state.M0
     kappa = np.linspace(kappa_min, kappa_max, int(n_kappa))
@@ -211,7 +211,7 @@ def theory_dataset(
         separatrix_band=float(separatrix_band),
         separatrix_band_note=band_note,
         eps_quadrature=f"Gauss-Legendre in Omega per branch: n_panels={n_panels}, order={order}; "
-        "principal values by pole subtraction (hmfdiff.dielectric)",
+        "principal values by pole subtraction (hmfdiff.kinetic.dielectric)",
         eps_kappa_max=float(eps.kappa_max),
         D_convention="<dJ^2> = 2 D dt; N*D stored; rotating orbits counted for both directions",
         time_dependence="exp(-i omega t)",

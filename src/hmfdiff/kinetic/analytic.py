@@ -49,9 +49,9 @@ from __future__ import annotations
 import numpy as np
 from scipy import special
 
-from . import orbits
-from .equilibrium import ThermalState
-from .fourier import cos_coefficient, sin_coefficient_imag
+from ..meanfield import orbits
+from ..meanfield.equilibrium import ThermalState
+from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 
 __all__ = [
     "landau_D_sech4",

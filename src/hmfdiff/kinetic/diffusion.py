@@ -24,9 +24,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import orbits
+from ..meanfield import orbits
+from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 from .dielectric import DielectricTensor
-from .fourier import cos_coefficient, sin_coefficient_imag
 from .resonances import BRANCHES, resonant_kappas
 
 __all__ = ["resonance_table", "diffusion_coefficients"]
@@ -103,7 +103,7 @@ def diffusion_coefficients(state, kappa, n_max=6, l_max=6, collective=True, eps=
     `DielectricTensor` of the state with l_max and `accuracy`).
 
     A two-step core-halo state (shape='step') is accepted with collective=False or an explicit
-    eps (its dielectric tensor is the closed form of hmfdiff.analytic); its 'Dpol' is NaN, since
+    eps (its dielectric tensor is the closed form of kinetic.analytic); its 'Dpol' is NaN, since
     df/dkappa is a sum of delta functions and D_pol is not a function of kappa.
 
     Returns a dict: 'D', 'Dpol' (K,); per resonance 'gamma' (contribution of each resonance to
@@ -123,7 +123,7 @@ def _coefficients_from_table(state, kappa, table, n_max, l_max, collective, eps,
         if eps is None and getattr(state, "shape", "fermi") == "step":
             raise NotImplementedError(
                 "two-step core-halo state: pass eps= the closed-form dielectric tensor of "
-                "hmfdiff.analytic (df/dkappa is a sum of delta functions)"
+                "kinetic.analytic (df/dkappa is a sum of delta functions)"
             )
         if eps is None:
             eps = DielectricTensor(state, l_max=l_max, **accuracy)

@@ -67,7 +67,7 @@ def _versions():
     import numba
     import scipy
 
-    from . import __version__
+    from .. import __version__
 
     return {
         "hmfdiff": __version__,

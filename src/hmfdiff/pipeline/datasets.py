@@ -11,9 +11,9 @@ import json
 import numpy as np
 import xarray as xr
 
-from . import orbits
-from .equilibrium import CoreHaloState, ThermalState, make_state
-from .fourier import cos_coefficient, sin_coefficient_imag
+from ..meanfield import orbits
+from ..meanfield.equilibrium import CoreHaloState, ThermalState, make_state
+from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 from .io import scalar
 
 __all__ = ["kappa_grid", "equilibrium_dataset", "state_from_dataset", "orbits_dataset"]
@@ -183,7 +183,7 @@ def closed_forms_dataset(
     real dielectric tensor and D with kappa* = kappa (eq. hmfepscc/ss-ch); for a thermal state the
     appendix-C dielectric tensor and the D built from it (valid as M0 -> 1).
     """
-    from . import analytic
+    from ..kinetic import analytic
 
     M0 = state.M0
     kappa = np.linspace(kappa_min, 1.0 - separatrix_band, int(n_kappa))

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import orbits
+from ..meanfield import orbits
 
 __all__ = [
     "make_rng",

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import orbits
+from ..meanfield import orbits
 
 __all__ = ["resonant_kappas", "BRANCHES"]
 

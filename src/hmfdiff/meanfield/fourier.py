@@ -3,7 +3,7 @@
 c_n(kappa) = (1/2pi) int cos(theta(w, kappa)) exp(-i n w) dw   (real, c_{-n} = c_n)
 s_n(kappa) = (1/2pi) int sin(theta(w, kappa)) exp(-i n w) dw   (imaginary, s_{-n} = -s_n)
 
-with the angle w of `hmfdiff.orbits` (w = 0 at theta = 0).  Corrections to the paper, each checked
+with the angle w of `orbits` (w = 0 at theta = 0).  Corrections to the paper, each checked
 by FFT of numerically integrated orbits in tests/test_fourier.py:
 
 * c_0 is not printed: 2E/K - 1 on librating orbits, 1 - 2 kappa^2 (1 - E(1/kappa)/K(1/kappa)) on

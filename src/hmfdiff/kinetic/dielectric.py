@@ -33,8 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import orbits
-from .fourier import cos_coefficient, sin_coefficient_imag
+from ..meanfield import orbits
+from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 
 __all__ = ["DielectricTensor", "dielectric_tensor", "pole_density"]
 
@@ -45,7 +45,7 @@ def _check_state(state):
     if getattr(state, "shape", "fermi") == "step":
         raise NotImplementedError(
             "the two-step core-halo state has df/dkappa made of delta functions: its dielectric "
-            "tensor is the closed form of hmfdiff.analytic (eq. hmfepscc/ss-ch), not this module"
+            "tensor is the closed form of kinetic.analytic (eq. hmfepscc/ss-ch), not this module"
         )
 
 

@@ -16,8 +16,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from . import orbits  # noqa: E402
-from .io import atomic_path, provenance  # noqa: E402
+from ..meanfield import orbits  # noqa: E402
+from ..pipeline.io import atomic_path, provenance  # noqa: E402
 
 __all__ = ["FIGURES", "save_figure"]
 
