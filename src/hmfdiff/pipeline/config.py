@@ -11,15 +11,12 @@ from __future__ import annotations
 import math
 import re
 
+from ..errors import ConfigError
 from ..meanfield.equilibrium import U_CRITICAL, U_MINIMUM
 
 __all__ = ["ConfigError", "check_config", "CASE_NAME"]
 
 CASE_NAME = re.compile(r"^[A-Za-z0-9_.+-]+$")
-
-
-class ConfigError(ValueError):
-    """An invalid configuration value; the message names the case (or section) and the field."""
 
 
 def _number(where, field, value):
