@@ -35,6 +35,8 @@ wildcard_constraints:
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/md_helpers.smk"
+include: "workflow/rules/figure_helpers.smk"
 include: "workflow/rules/equilibrium.smk"
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/theory.smk"
