@@ -1,0 +1,126 @@
+"""Tests of the ensemble engine (hmfdiff.dynamics.ensemble): R independent HMF systems in one
+kernel, against the single-system kernel, conservation laws, thread independence, and a thermal
+state that must stay thermal."""
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from hmfdiff.dynamics import ensemble, integrator, sampling
+from hmfdiff.meanfield.equilibrium import ThermalState
+
+
+def test_one_realisation_follows_the_single_system_kernel():
+    """Same initial conditions, 100 steps: the ensemble kernel and `integrator.leapfrog` do the
+    same arithmetic in the same order (chunks of 4096: N = 5000 spans two chunks)."""
+    state = ThermalState(M0=0.7)
+    ens = ensemble._initial_ensemble(state, 5000, 3, seed=11)
+    single = integrator.Particles(ens.theta[1].copy(), ens.p[1].copy())
+    integrator.leapfrog(single, 100, 0.05, "self")
+    ens.advance(100, 0.05)
+    assert np.max(np.abs(ens.theta[1] - single.theta)) <= 1e-13
+    assert np.max(np.abs(ens.p[1] - single.p)) <= 1e-13
+    m = single.moments()
+    assert ens.M[1] == pytest.approx(m[:2], abs=1e-15)
+
+
+def _energy_error(dt, t_end=100.0):
+    state = ThermalState(M0=0.6)
+    ens = ensemble._initial_ensemble(state, 1000, 4, seed=3)
+    e0, p0 = ens.energy(), ens.moments()[:, 2]
+    kinetic = 0.5 * ens.moments()[:, 3]  # the scale of the energy (u itself is near 0 here)
+    err = 0.0
+    for _ in range(10):
+        ens.advance(int(round(t_end / 10 / dt)), dt)
+        err = max(err, float(np.max(np.abs(ens.energy() - e0) / kinetic)))
+    return err, float(np.max(np.abs(ens.moments()[:, 2] - p0)))
+
+
+def test_energy_and_momentum_are_conserved_at_the_configured_dt():
+    """Velocity Verlet: bounded energy error of order dt^2; the total momentum is conserved
+    exactly in exact arithmetic (the mean-field forces cancel pairwise)."""
+    err, dp = _energy_error(0.05)
+    assert err < 2e-4
+    assert dp < 1e-12
+    err_half, _ = _energy_error(0.025)
+    assert 2.5 < err / err_half < 6.0  # second order
+
+
+def test_output_does_not_depend_on_the_thread_count():
+    state = ThermalState(M0=0.5)
+    kw = dict(
+        n_particles=600,
+        n_realisations=5,
+        dt=0.1,
+        times=ensemble.measurement_times(20.0, 6, 0.1),
+        jbar_edges=np.linspace(0.0, 1.5, 16),
+        seed=5,
+        progress=lambda msg: None,
+    )
+    a = ensemble.run_ensemble(state, threads=1, **kw)
+    b = ensemble.run_ensemble(state, threads=2, **kw)
+    for key in ("M_abs", "M_phase", "energy", "momentum", "hist", "overflow"):
+        np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+
+
+def test_measurement_times_are_whole_steps_dense_early():
+    t = ensemble.measurement_times(1000.0, 30, 0.05)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(1000.0)
+    steps = t / 0.05
+    np.testing.assert_allclose(steps, np.rint(steps), atol=1e-9)
+    assert np.all(np.diff(t) > 0)
+    assert np.diff(t)[0] < np.diff(t)[-1] / 100  # dense early, sparse late
+
+
+def test_thermal_state_stays_thermal():
+    """A thermal state is stationary: after t = 200 (50 orbital periods at the centre) the pooled
+    J-bar histogram of 20 x 1000 particles agrees with f_thermal by a chi-square test."""
+    state = ThermalState(M0=0.6)
+    M0 = state.M0
+    edges = np.concatenate(
+        [np.linspace(0.0, 0.95, 12) * sampling.jbar_separatrix(M0), [1.2, 1.5, 2.0]]
+    )
+    out = ensemble.run_ensemble(
+        state,
+        n_particles=1000,
+        n_realisations=20,
+        dt=0.05,
+        times=np.array([0.0, 200.0]),
+        jbar_edges=edges,
+        seed=2,
+        progress=lambda msg: None,
+    )
+    jg, cdf = sampling.jbar_cdf_table(state)
+    prob = np.diff(np.interp(edges, jg, cdf / cdf[-1]))
+    for k in (0, 1):
+        counts = out["hist"][k].sum(axis=0)
+        total = counts.sum() + out["overflow"][k].sum()
+        expected = total * prob
+        chi2 = np.sum((counts - expected) ** 2 / expected)
+        pval = stats.chi2.sf(chi2, df=counts.size - 1)
+        assert pval > 1e-3, (k, chi2, counts, expected)
+    assert abs(np.mean(out["M_abs"][-1]) - M0) < 0.02
+
+
+def test_bad_input_is_refused():
+    state = ThermalState(M0=0.5)
+    with pytest.raises(ValueError, match="n_particles"):
+        ensemble.run_ensemble(
+            state,
+            n_particles=1,
+            n_realisations=2,
+            dt=0.1,
+            times=[0.0, 1.0],
+            jbar_edges=[0.0, 1.0],
+            seed=0,
+        )
+    with pytest.raises(ValueError, match="multiples of dt"):
+        ensemble.run_ensemble(
+            state,
+            n_particles=10,
+            n_realisations=2,
+            dt=0.1,
+            times=[0.0, 0.15],
+            jbar_edges=[0.0, 1.0],
+            seed=0,
+        )
