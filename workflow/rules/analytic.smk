@@ -2,7 +2,7 @@ rule closed_forms:
     """The paper's closed forms for one case: sech^4 Landau D, two-step and appendix-C eps and D."""
     input:
         equilibrium="results/equilibrium/{case}.nc",
-        lib=lib("analytic", "datasets", "equilibrium", "orbits", "fourier", "io"),
+        lib=lib("closed_forms.py"),
     output:
         "results/analytic/{case}.nc",
     log:

@@ -3,13 +3,19 @@
 import json
 
 
-def lib(*modules):
-    """Library files imported by a step; editing one of them reruns the step."""
-    from pathlib import Path
+def lib(script):
+    """The src/hmfdiff files that workflow/scripts/{script} imports, directly or through other
+    modules (read from the code by hmfdiff.pipeline.deps): editing one reruns the step.
+    """
+    import os
 
-    return sorted(
-        str(p) for m in modules for p in Path("src/hmfdiff").glob(f"*/{m}.py")
+    from hmfdiff.pipeline.deps import library_files
+
+    base = workflow.basedir
+    files = library_files(
+        os.path.join(base, "workflow", "scripts", script), os.path.join(base, "src")
     )
+    return [os.path.relpath(f) for f in files]
 
 
 def case_spec(wildcards):

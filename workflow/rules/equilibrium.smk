@@ -1,7 +1,7 @@
 rule equilibrium:
     """Equilibrium state of one case: beta or self-consistent M0, u, f(kappa), df/dkappa."""
     input:
-        lib=lib("equilibrium", "orbits", "fourier", "io"),
+        lib=lib("equilibrium.py"),
     output:
         "results/equilibrium/{case}.nc",
     log:

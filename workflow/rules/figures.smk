@@ -4,7 +4,15 @@ rule figure:
         unpack(figure_inputs),
     output:
         pdf="results/figures/{name}.pdf",
-        png="results/figures/{name}.png",
+        png=report(
+            "results/figures/{name}.png",
+            caption="../report/figure.rst",
+            category=lambda w: FIGURES[w.name].category,
+            labels=lambda w: {
+                "figure": FIGURES[w.name].target,
+                "file": f"{w.name}.png",
+            },
+        ),
     log:
         "logs/figures/{name}.log",
     wildcard_constraints:
@@ -16,20 +24,19 @@ rule figure:
         mem_mb=1000,
         runtime=15,
     params:
-        name="{name}",
-        cases=lambda w: figure_cases(w.name),
+        spec=lambda w: json.dumps(figure_spec(w.name), sort_keys=True),
+        caption=lambda w: FIGURES[w.name].caption,
     script:
         "../scripts/figure.py"
 
 
 # Short names: `snakemake -j2 fig2`
-for _name, (_short, _kind) in FIGURES.items():
-    if _name in config["figures"]:
+for _name in figure_names():
 
-        rule:
-            name:
-                _short
-            input:
-                f"results/figures/{_name}.pdf",
-                f"results/figures/{_name}.png",
-            localrule: True
+    rule:
+        name:
+            FIGURES[_name].target
+        input:
+            f"results/figures/{_name}.pdf",
+            f"results/figures/{_name}.png",
+        localrule: True

@@ -2,17 +2,7 @@ rule md:
     """One MD realisation (seed): MD(bath) or MD(full), with <dJ^2> accumulated on the fly."""
     input:
         equilibrium="results/equilibrium/{case}.nc",
-        lib=lib(
-            "md",
-            "elementary",
-            "integrator",
-            "accumulator",
-            "sampling",
-            "orbits",
-            "equilibrium",
-            "datasets",
-            "io",
-        ),
+        lib=lib("md.py"),
     output:
         "results/md/{case}/{dynamics}/seed{seed}.nc",
     log:
@@ -38,7 +28,7 @@ rule fit:
     """N*D_MD per J-bar_0 bin: half the slope of <dJ^2>(dt), pooled over seeds."""
     input:
         seeds=lambda w: md_files(w.case, w.dynamics),
-        lib=lib("fits", "orbits", "io"),
+        lib=lib("fit.py"),
     output:
         "results/fits/{case}_{dynamics}.nc",
     log:
@@ -65,7 +55,7 @@ rule validation:
         equilibrium=[
             f"results/equilibrium/{c}.nc" for c in md_cases() for d in ("bath", "full")
         ],
-        lib=lib("fits", "datasets", "equilibrium", "io"),
+        lib=lib("validation.py"),
     output:
         table=report(
             "results/validation.csv",

@@ -2,7 +2,7 @@ rule orbits:
     """Action-angle variables J, Omega, derivatives and Fourier coefficients c_n, s_n on a kappa grid."""
     input:
         equilibrium="results/equilibrium/{case}.nc",
-        lib=lib("orbits", "fourier", "io"),
+        lib=lib("orbits.py"),
     output:
         "results/orbits/{case}.nc",
     log:

@@ -2,17 +2,7 @@ rule theory:
     """Dielectric tensor, Landau and Lenard-Balescu N*D_dif and N*D_pol, resonance contributions."""
     input:
         equilibrium="results/equilibrium/{case}.nc",
-        lib=lib(
-            "theory",
-            "dielectric",
-            "diffusion",
-            "resonances",
-            "equilibrium",
-            "orbits",
-            "fourier",
-            "datasets",
-            "io",
-        ),
+        lib=lib("theory.py"),
     output:
         "results/theory/{case}.nc",
     log:

@@ -1,0 +1,241 @@
+"""The figure registry: the one list of figures that the workflow rules and the report read.
+
+Contract (how to add a figure, e.g. figure 11):
+
+1. Write the drawing function, `fig11_relaxation(inputs, pdf, png)`, in a module of its own
+   group.  `inputs` maps each input *kind* to a list of xarray datasets, in the order the
+   figure's config entry names the cases: `{"relaxation": [ds0, ds1, ...]}`.  It draws with
+   `style.plt`, labels panels with `style.tag_panels` (reading order), writes numbers with
+   `style.sci` (5\\times10^{3}, never 5e+03), labels every axis with its unit (`style.HMF`),
+   and saves with `style.save_figure(fig, pdf, png, inputs, title)` (atomic, provenance).
+   It takes nothing else: every number it needs is in its datasets.
+2. Add one `Figure(...)` entry to `FIGURES` below: the file stem `name` (figNN_what, the
+   config key and the output results/figures/{name}.pdf/.png), the short target (`fig11`),
+   the function, one `Inputs` per kind, a caption (what it shows, which equations) and a
+   report category.
+3. Give it an entry under `figures:` in the config (and the schema), naming its cases.
+
+`Inputs(kind, pattern, keys)` says where the datasets of one kind come from: `pattern` is a
+path under the results directory with a `{case}` field, filled with every case named by the
+figure's config entry under `keys` (each a string or a list; concatenated in the order of
+`keys`).  Any other field of the pattern, e.g. `{equation}` in
+"relaxation/{case}_{equation}.nc", is filled from the config entry's key of the same name
+(a string or a list) or else from `Inputs.defaults`; files are listed case by case, the other
+fields varying fastest.  Nothing else ties a figure to the workflow: the generic rule
+`figure` (workflow/rules/figures.smk) builds its inputs from `Figure.input_files`, the short
+target from `target`, the report entry from `caption` and `category`; the library files that
+rerun it come from the imports of workflow/scripts/figure.py, which imports this module.
+"""
+
+from __future__ import annotations
+
+import itertools
+import string
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+from .md_figures import fig08_dj2, fig09_md_thermal, fig10_md_corehalo
+from .orbit_figures import fig01_orbits, fig02_action_frequency, fig03_poles
+from .theory_figures import (
+    fig04_contributions,
+    fig05_dielectric,
+    fig06_landau_lenard_balescu,
+    fig07_closed_forms,
+)
+
+__all__ = ["Figure", "Inputs", "FIGURES"]
+
+CASES = ("case", "cases")  # the config keys that name the cases of most figures
+
+
+def _as_list(value):
+    return [value] if isinstance(value, str | int | float) else list(value)
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """The input files of one kind of a figure (see the module docstring)."""
+
+    kind: str
+    pattern: str
+    keys: Sequence[str] = CASES
+    defaults: Mapping[str, Sequence[str]] = field(default_factory=dict)
+
+    def fields(self):
+        """The fields of `pattern` other than `case`, in the order they appear."""
+        names = [f for _, f, _, _ in string.Formatter().parse(self.pattern) if f]
+        return [f for f in dict.fromkeys(names) if f != "case"]
+
+    def cases(self, figure, spec):
+        """The cases of this kind named by the figure's config entry `spec`, in order."""
+        cases = [c for k in self.keys if k in spec for c in _as_list(spec[k])]
+        if not cases:
+            raise KeyError(
+                f"figures.{figure}: no case for its {self.kind!r} inputs; give "
+                + " or ".join(repr(k) for k in self.keys)
+            )
+        return cases
+
+    def files(self, figure, spec):
+        """Paths under the results directory, case by case, other fields fastest."""
+        values = []
+        for name in self.fields():
+            if name in spec:
+                values.append(_as_list(spec[name]))
+            elif name in self.defaults:
+                values.append(list(self.defaults[name]))
+            else:
+                raise KeyError(f"figures.{figure}: {self.kind!r} inputs need the key {name!r}")
+        names = self.fields()
+        return [
+            self.pattern.format(case=case, **dict(zip(names, combo, strict=True)))
+            for case in self.cases(figure, spec)
+            for combo in itertools.product(*values)
+        ]
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One figure: its file stem, short target, drawing function, inputs, caption, category."""
+
+    name: str
+    target: str
+    draw: Callable[..., None]
+    inputs: tuple[Inputs, ...]
+    caption: str
+    category: str
+
+    def __post_init__(self):
+        kinds = [i.kind for i in self.inputs]
+        if len(set(kinds)) != len(kinds) or "lib" in kinds:
+            raise ValueError(f"{self.name}: input kinds {kinds} must be distinct and not 'lib'")
+
+    @property
+    def kinds(self):
+        return [i.kind for i in self.inputs]
+
+    def input_files(self, spec):
+        """{kind: [path under the results directory, ...]} for the config entry `spec`."""
+        return {i.kind: i.files(self.name, spec) for i in self.inputs}
+
+
+def _theory(keys=CASES):
+    return Inputs("theory", "theory/{case}.nc", keys)
+
+
+_ORBITS = (Inputs("orbits", "orbits/{case}.nc"),)
+_FIT_BATH = Inputs("fit_bath", "fits/{case}_bath.nc")
+_FIT_FULL = Inputs("fit_full", "fits/{case}_full.nc")
+_ORBIT_CAT = "Mean-field orbits (figures 1-3)"
+_THEORY_CAT = "Kinetic theory (figures 4-7)"
+_MD_CAT = "Molecular dynamics against theory (figures 8-10)"
+
+_FIGURE_LIST = (
+    Figure(
+        "fig01_orbits",
+        "fig1",
+        fig01_orbits,
+        _ORBITS,
+        "Fig. 1 (fig:hmforbits): a librating orbit (kappa < 1), the separatrix (kappa = 1) and "
+        "a rotating orbit (kappa > 1, both directions) of h = p^2/2 - M0 cos(theta), from the "
+        "inverse angle-action map (appendix A).",
+        _ORBIT_CAT,
+    ),
+    Figure(
+        "fig02_action_frequency",
+        "fig2",
+        fig02_action_frequency,
+        _ORBITS,
+        "Fig. 2 (fig:hmfactom): (a) the action J(kappa) (eq. hmfaction), discontinuous at the "
+        "separatrix; (b) the frequency Omega(J) (eq. hmfomega), inset Omega(kappa).",
+        _ORBIT_CAT,
+    ),
+    Figure(
+        "fig03_poles",
+        "fig3",
+        fig03_poles,
+        _ORBITS,
+        "Fig. 3 (fig:hmfpoles): poles of the dielectric integrand, Omega(kappa) = omega/l: two "
+        "poles kappa_1 < 1 < kappa_2 for 0 < omega/l < Omega_0, one above Omega_0.",
+        _ORBIT_CAT,
+    ),
+    Figure(
+        "fig04_contributions",
+        "fig4",
+        fig04_contributions,
+        (_theory(),),
+        "Fig. 4 (fig:hmfcontribs): normalised contribution gamma(kappa, kappa*)/D_dif(kappa) "
+        "of each resonant orbit kappa* to the Lenard-Balescu diffusion coefficient "
+        "(eq. hmfCEdif), one panel per thermal state (paper: M0 = 0.05 and 0.9).",
+        _THEORY_CAT,
+    ),
+    Figure(
+        "fig05_dielectric",
+        "fig5",
+        fig05_dielectric,
+        (_theory(),),
+        "Fig. 5 (fig:eps): (a) cosine and (b) sine components of the dielectric tensor "
+        "(eqs. hmfepscc, hmfepsss; Landau prescription), paper: thermal (u, M0) = "
+        "(-0.1, 0.728); vertical lines at Omega_0 and 2 Omega_0.",
+        _THEORY_CAT,
+    ),
+    Figure(
+        "fig06_landau_lenard_balescu",
+        "fig6",
+        fig06_landau_lenard_balescu,
+        (_theory(),),
+        "Fig. 6 (fig:hmfCENCEcompare): N D_dif(kappa) with (Lenard-Balescu, eqs. hmfCEdif + "
+        "hmfD) and without (Landau, eq. hmfDbare) collective effects, paper: thermal (u, M0) = "
+        "(-0.1, 0.7285) and (0.2475, 0.0632); cut near the separatrix.",
+        _THEORY_CAT,
+    ),
+    Figure(
+        "fig07_closed_forms",
+        "fig7",
+        fig07_closed_forms,
+        (
+            Inputs("theory_core_halo", "theory/{case}.nc", ("core_halo",)),
+            Inputs("theory_thermal", "theory/{case}.nc", ("thermal",)),
+            Inputs("closed_two_step", "analytic/{case}.nc", ("two_step",)),
+            Inputs("closed_thermal", "analytic/{case}.nc", ("thermal",)),
+        ),
+        "Fig. 7 (M0.8): (a-c) eps_cc, eps_ss and N D_dif of the smooth core-halo states "
+        "(paper: ch1*, ch2*) against the two-step closed form (eqs. hmfepscc/ss-ch, "
+        "corrected); (d-f) the same for the thermal state M0 = 0.95 against appendix C "
+        "(eqs. eps_cc_ap, eps_ss_ap, corrected).",
+        _THEORY_CAT,
+    ),
+    Figure(
+        "fig08_dj2",
+        "fig8",
+        fig08_dj2,
+        (_FIT_FULL,),
+        "Fig. 8 (fig:dj2t): <dJ^2>(dt) from MD(full) for several J0, with the linear fits "
+        "(eq. hmfmddif) over the shaded window; one panel per case.",
+        _MD_CAT,
+    ),
+    Figure(
+        "fig09_md_thermal",
+        "fig9",
+        fig09_md_thermal,
+        (_theory(), _FIT_BATH, _FIT_FULL),
+        "Fig. 9 (fig:hmfdiff): N D from MD against theory for thermal states (paper: (u, M0) = "
+        "(-0.2, 0.816), (0.0, 0.622), (0.2475, 0.063)): MD(bath) vs Landau (top row), "
+        "MD(full) vs Lenard-Balescu (bottom row); errors from the spread between seeds; grey "
+        "line: separatrix.",
+        _MD_CAT,
+    ),
+    Figure(
+        "fig10_md_corehalo",
+        "fig10",
+        fig10_md_corehalo,
+        (_theory(), _FIT_BATH, _FIT_FULL),
+        "Fig. 10 (fig:hmfch): the same for the core-halo state ch2* (beta1 = 30, beta2 = 10, "
+        "eta1 = 0.298, eta2 = 0.051, mu1 = -0.517, mu2 = 0.19, M0 = 0.8).",
+        _MD_CAT,
+    ),
+)
+
+FIGURES: dict[str, Figure] = {f.name: f for f in _FIGURE_LIST}
+if len(FIGURES) != len(_FIGURE_LIST) or len({f.target for f in _FIGURE_LIST}) != len(FIGURES):
+    raise ValueError("figure names and targets must be unique")

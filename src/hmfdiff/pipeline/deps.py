@@ -1,0 +1,89 @@
+"""The library files a workflow script depends on, read from its imports.
+
+A `script:` rule of Snakemake reruns when its script changes, not when the library it imports
+changes; the rules therefore list the library files as inputs.  This module derives that list
+from the code itself, so it cannot go stale: an `ast` walk over the script and, transitively,
+over every module of the package it reaches (absolute and relative imports, at any depth of
+the code, so imports inside functions count too).  The package `__init__.py` files on the way
+count as well, since Python runs them on import.  Nothing is imported or executed.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+__all__ = ["library_files", "module_imports"]
+
+PACKAGE = "hmfdiff"
+
+
+def _module_file(src, dotted):
+    """The file of module `dotted` under the source root `src`, or None if it is not one."""
+    base = Path(src, *dotted.split("."))
+    for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _package_of(src, path):
+    """The dotted package that holds the module file `path` (for relative imports)."""
+    parts = path.relative_to(src).with_suffix("").parts
+    return ".".join(parts[:-1])  # a/b/c.py -> a.b; a/b/__init__.py -> a.b, itself
+
+
+def module_imports(path, src, package=None):
+    """Dotted names that the module at `path` imports from the package, as far as the code says.
+
+    `package` is the dotted package holding `path` (None for a script outside `src`, whose
+    relative imports, if any, are an error).  `from a.b import c` yields both `a.b` and
+    `a.b.c`; the caller keeps those that are modules."""
+    tree = ast.parse(Path(path).read_text(), filename=str(path))
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                if package is None:
+                    raise ValueError(f"{path}: relative import outside the package")
+                parts = package.split(".")
+                if node.level - 1 > len(parts) - 1:
+                    raise ValueError(f"{path}:{node.lineno}: relative import beyond {PACKAGE}")
+                base = parts[: len(parts) - (node.level - 1)]
+                if node.module:
+                    base += node.module.split(".")
+                base = ".".join(base)
+            else:
+                base = node.module
+            names.append(base)
+            names += [f"{base}.{alias.name}" for alias in node.names if alias.name != "*"]
+    return [n for n in names if n == PACKAGE or n.startswith(PACKAGE + ".")]
+
+
+def library_files(script, src):
+    """Sorted paths (as given by `src`) of every package file the script at `script` reaches.
+
+    `src` is the source root holding the package folder (src/ of this repository), so the
+    paths are src/hmfdiff/... when `src` is relative."""
+    src = Path(src)
+    if not Path(src, PACKAGE).is_dir():
+        raise FileNotFoundError(f"no package {PACKAGE!r} under {src}")
+    seen = {}
+    todo = [(Path(script), None)]
+    while todo:
+        path, package = todo.pop()
+        for dotted in module_imports(path, src, package):
+            parts = dotted.split(".")
+            # importing a.b.c runs a/__init__.py and a/b/__init__.py first
+            for i in range(1, len(parts) + 1):
+                name = ".".join(parts[:i])
+                if name in seen:
+                    continue
+                file = _module_file(src, name)
+                if file is None:
+                    continue  # an attribute (function, class), not a module
+                seen[name] = file
+                todo.append((file, _package_of(src, file)))
+    return sorted(str(p) for p in seen.values())
