@@ -1,0 +1,130 @@
+"""Layout of results/relaxation_md/{case}/N{N}.nc: an ensemble of N-body relaxations."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from ..analysis.relaxation_md import density_from_histogram, entropy_from_histogram
+
+__all__ = ["relaxation_md_dataset"]
+
+
+def _var(dims, data, units, long_name):
+    return xr.Variable(dims, data, {"units": units, "long_name": long_name})
+
+
+def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
+    """Dataset of `dynamics.ensemble.run_ensemble` output: histograms, |M|, energy, momentum
+    per realisation, ensemble means and spreads, the entropy of the pooled histogram."""
+    edges = np.asarray(edges, dtype=float)
+    t = out["time"]
+    R = out["M_abs"].shape[1]
+    hist, overflow = out["hist"], out["overflow"]
+    pooled = hist.sum(axis=1)
+    pooled_over = overflow.sum(axis=1)
+    a1 = "action (dimensionless HMF units)"
+    e0 = out["energy"][0]
+    ds = xr.Dataset(
+        {
+            "M_abs": _var(
+                ("time", "realisation"),
+                out["M_abs"],
+                "1",
+                "modulus of the magnetisation |M| of each realisation",
+            ),
+            "M_phase": _var(
+                ("time", "realisation"),
+                out["M_phase"],
+                "rad",
+                "direction of the magnetisation arg(Mx + i My)",
+            ),
+            "energy": _var(
+                ("time", "realisation"),
+                out["energy"],
+                "energy per particle",
+                "H/N = sum p^2/(2N) - |M|^2/2 (eq. hmfhamiltonian)",
+            ),
+            "momentum": _var(
+                ("time", "realisation"),
+                out["momentum"],
+                "momentum per particle",
+                "total momentum per particle sum p_i / N",
+            ),
+            "energy_drift": _var(
+                ("time", "realisation"),
+                out["energy"] - e0[None, :],
+                "energy per particle",
+                "H/N(t) - H/N(0)",
+            ),
+            "M_abs_mean": _var(("time",), out["M_abs"].mean(axis=1), "1", "ensemble mean of |M|"),
+            "M_abs_std": _var(
+                ("time",),
+                out["M_abs"].std(axis=1, ddof=1) if R > 1 else np.zeros(t.size),
+                "1",
+                "standard deviation of |M| between realisations",
+            ),
+            "M0_actions": _var(
+                ("time",),
+                out["M0_actions"],
+                "1",
+                "magnetisation defining the actions: ensemble mean of |M| at that time",
+            ),
+            "hist": _var(
+                ("time", "realisation", "jbar"),
+                hist.astype(np.int32),
+                "1",
+                "number of particles per J-bar bin, in the realisation's magnetisation frame",
+            ),
+            "overflow": _var(
+                ("time", "realisation"),
+                overflow.astype(np.int32),
+                "1",
+                "number of particles beyond the last J-bar edge",
+            ),
+            "f_jbar": _var(
+                ("time", "jbar"),
+                density_from_histogram(pooled, edges, pooled_over),
+                "1",
+                "phase-space density f(J-bar) of the pooled histogram, normalised to one particle",
+            ),
+            "entropy": _var(
+                ("time",),
+                entropy_from_histogram(pooled, edges, pooled_over),
+                "1",
+                "coarse-grained entropy -sum_b P_b ln(P_b / (4 pi dJbar_b)), pooled histogram",
+            ),
+            "entropy_realisation": _var(
+                ("time", "realisation"),
+                entropy_from_histogram(hist, edges, overflow),
+                "1",
+                "coarse-grained entropy of each realisation's histogram",
+            ),
+        },
+        coords={
+            "time": _var(("time",), t, "time", "time t in HMF units (not rescaled)"),
+            "tau": _var(("time",), t / n_particles, "time", "rescaled time tau = t / N"),
+            "realisation": _var(
+                ("realisation",), np.arange(R), "1", "index of the realisation (its seed member)"
+            ),
+            "jbar": _var(("jbar",), 0.5 * (edges[1:] + edges[:-1]), a1, "centre of the J-bar bin"),
+            "jbar_edges": _var(("jbar_edge",), edges, a1, "edges of the J-bar bins"),
+        },
+    )
+    ds.attrs.update(
+        {
+            "title": f"N-body relaxation ensemble of case {case} at N = {n_particles}",
+            "case": case,
+            "n_particles": int(n_particles),
+            "n_realisations": int(R),
+            "dt": float(run["dt"]),
+            "tau_max": float(run["tau_max"]),
+            "seed": int(run["seed"]),
+            "seeding": "realisation r draws from default_rng(SeedSequence([seed, r]))",
+            "dynamics": "full N-body HMF (eq. hmfmdfull), velocity Verlet",
+            "action_frame": "each realisation's magnetisation direction; modulus M0_actions",
+            "M0_initial_state": float(state.M0),
+            "wall_time_s": float(out["wall_time_s"]),
+        }
+    )
+    return ds

@@ -1,0 +1,21 @@
+rule relaxation_md:
+    """An ensemble of N-body relaxations (full dynamics) of one case at one N."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        lib=lib("relaxation_md.py"),
+    output:
+        "results/relaxation_md/{case}/N{n}.nc",
+    log:
+        "logs/relaxation_md/{case}/N{n}.log",
+    wildcard_constraints:
+        n=r"\d+",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: lambda w: config["relaxation_md"]["threads"]
+    resources:
+        mem_mb=2000,
+        runtime=lambda w: relaxation_md_runtime_min(w.case, w.n),
+    params:
+        run=lambda w: relaxation_md_run(w.case),
+    script:
+        "../scripts/relaxation_md.py"

@@ -1,0 +1,32 @@
+# Helpers of the N-body relaxation rules (relaxation_md.smk).
+
+
+def relaxation_md_cases():
+    return sorted(config.get("relaxation_md", {}).get("runs", {}))
+
+
+def relaxation_md_sizes(case):
+    return list(config["relaxation_md"]["runs"][case]["n_particles"])
+
+
+def relaxation_md_files():
+    return [
+        f"results/relaxation_md/{c}/N{n}.nc"
+        for c in relaxation_md_cases()
+        for n in relaxation_md_sizes(c)
+    ]
+
+
+def relaxation_md_run(case):
+    """The ensemble settings of one case (defaults merged with the case's own), as JSON."""
+    rmd = config["relaxation_md"]
+    run = {k: v for k, v in rmd.items() if k != "runs"}
+    run.update({k: v for k, v in rmd["runs"][case].items() if k != "n_particles"})
+    return json.dumps(run, sort_keys=True)
+
+
+def relaxation_md_runtime_min(case, n):
+    """Wall-time request in minutes from the particle-steps and a conservative 1e8 per s."""
+    rmd = config["relaxation_md"]
+    steps = rmd["particles_per_size"] * rmd["tau_max"] * int(n) / rmd["dt"]
+    return int(10 + steps / 1e8 / 60 * 2)

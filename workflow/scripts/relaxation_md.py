@@ -1,0 +1,50 @@
+"""Rule relaxation_md: an ensemble of N-body relaxations of one case at one N
+(results/relaxation_md/{case}/N{N}.nc)."""
+
+import json
+
+import numpy as np
+
+from hmfdiff.dynamics.ensemble import measurement_times, run_ensemble
+from hmfdiff.meanfield import orbits
+from hmfdiff.pipeline.io import read_dataset, write_dataset
+from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.relaxation_layouts import relaxation_md_dataset
+from hmfdiff.pipeline.runtime import get_logger, set_threads
+
+sm = snakemake  # noqa: F821
+log = get_logger("relaxation_md", sm.log[0])
+run = json.loads(sm.params.run)
+threads = set_threads(sm.threads)
+state = state_from_dataset(read_dataset(sm.input.equilibrium, required=["M0"]))
+n = int(sm.wildcards.n)
+n_real = max(1, run["particles_per_size"] // n)
+t_max = run["tau_max"] * n
+times = measurement_times(t_max, run["n_times"], run["dt"])
+edges = np.linspace(
+    0.0, float(orbits.rescaled_action(run["kappa_max"], state.M0)), run["n_bins"] + 1
+)
+log.info(
+    "case %s: N = %d, R = %d realisations, t_max = %.6g (tau = %.3g), dt = %g, threads = %d",
+    sm.wildcards.case,
+    n,
+    n_real,
+    t_max,
+    run["tau_max"],
+    run["dt"],
+    threads,
+)
+out = run_ensemble(
+    state,
+    n_particles=n,
+    n_realisations=n_real,
+    dt=run["dt"],
+    times=times,
+    jbar_edges=edges,
+    seed=run["seed"],
+    threads=threads,
+    progress=log.info,
+)
+ds = relaxation_md_dataset(out, edges, case=sm.wildcards.case, state=state, n_particles=n, run=run)
+write_dataset(ds, sm.output[0], {"relaxation_md": run, "N": n}, case=sm.wildcards.case)
+log.info("wrote %s (%.1f s)", sm.output[0], out["wall_time_s"])
