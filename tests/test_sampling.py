@@ -86,7 +86,7 @@ def test_rescaled_action_inverse(thermal):
     M0 = thermal.M0
     k = np.concatenate([np.linspace(0.01, 0.99, 50), np.linspace(1.01, 4, 50)])
     np.testing.assert_allclose(
-        sampling.kappa_from_rescaled_action(orbits.rescaled_action(k, M0), M0), k, rtol=1e-10
+        orbits.kappa_from_rescaled_action(orbits.rescaled_action(k, M0), M0), k, rtol=1e-10
     )
 
 

@@ -12,7 +12,7 @@ for any thread count.
   the density of J-bar is 4 pi f(kappa(J-bar)): librating orbits have one torus per J and
   dJ = 2 dJ-bar, rotating ones two tori (both directions) and dJ = dJ-bar.  It is bounded and
   continuous across the separatrix, so its cumulative distribution is tabulated on a fine grid
-  and inverted; kappa then follows from J by bisection (`orbits.kappa_from_action`).
+  and inverted; kappa then follows from J-bar (`orbits.kappa_from_rescaled_action`).
 * `sample_uniform_jbar`: test particles uniform in J-bar over [Jbar_min, Jbar_max], with
   uniform angle and a random direction of rotation, to populate tails and rotating orbits.
 * `rotate_to_x_axis`: rotate all angles by one angle so that the magnetisation lies on x.
@@ -24,6 +24,9 @@ import numpy as np
 
 from ..meanfield import orbits
 
+# J-bar <-> kappa lives in `orbits`; jbar_separatrix stays importable here for older callers
+from ..meanfield.orbits import jbar_separatrix, kappa_from_rescaled_action  # noqa: F401
+
 __all__ = [
     "make_rng",
     "wrap_angle",
@@ -31,11 +34,9 @@ __all__ = [
     "rotate_to_x_axis",
     "sample_thermal",
     "jbar_cdf_table",
-    "kappa_from_rescaled_action",
     "sample_kappa",
     "sample_state",
     "sample_uniform_jbar",
-    "jbar_separatrix",
 ]
 
 
@@ -69,59 +70,12 @@ def rotate_to_x_axis(theta, *others):
     return (*out, phase)
 
 
-def jbar_separatrix(M0):
-    """J-bar at the separatrix: 4 sqrt(M0)/pi from both sides."""
-    return 4.0 * np.sqrt(M0) / np.pi
-
-
 def sample_thermal(state, n, rng):
     """Exact sample of f_eq(theta, p) ∝ exp(-beta (p^2/2 - M0 cos theta)), eq. (hmfeq)."""
     beta, M0 = state.beta, state.M0
     p = rng.normal(0.0, 1.0 / np.sqrt(beta), size=n)
     theta = rng.vonmises(0.0, beta * M0, size=n)
     return wrap_angle(theta), p
-
-
-def kappa_from_rescaled_action(jbar, M0, n_newton=6):
-    """kappa of the orbit with rescaled action J-bar (J = 2 J-bar below the separatrix).
-
-    A start from a tabulated inverse, then Newton steps on J(kappa) within the orbit family;
-    points that have not converged to 1e-13 relative go through bisection
-    (`orbits.kappa_from_action`)."""
-    jbar = np.asarray(jbar, dtype=float)
-    js = jbar_separatrix(M0)
-    lib = jbar < js
-    # table of the inverse, graded towards the separatrix
-    near = 10.0 ** -np.linspace(0.5, 15.0, 300)
-    kt = np.unique(
-        np.concatenate(
-            [
-                np.linspace(0.0, 1.0, 400)[:-1],
-                1.0 - near,
-                1.0 + near,
-                1.0
-                + np.geomspace(
-                    0.3, max(4.0, 2.0 * float(np.max(jbar, initial=0.0)) / np.sqrt(M0)), 400
-                ),
-            ]
-        )
-    )
-    jt = orbits.rescaled_action(kt, M0)
-    k = np.interp(jbar, jt, kt)
-    J_target = np.where(lib, 2.0 * jbar, jbar)
-    lo = np.where(lib, 0.0, 1.0 + 1e-16)
-    hi = np.where(lib, 1.0 - 1e-16, np.inf)
-    k = np.clip(k, lo, hi)
-    for _ in range(n_newton):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = (orbits.action(k, M0) - J_target) / orbits.dJ_dkappa(k, M0)
-        k = np.clip(k - np.nan_to_num(step), lo, hi)
-    bad = ~(np.abs(orbits.action(k, M0) - J_target) <= 1e-13 * np.maximum(J_target, 1e-300))
-    bad &= J_target > 0
-    for fam, sel in (("libration", bad & lib), ("rotation", bad & ~lib)):
-        if np.any(sel):
-            k[sel] = orbits.kappa_from_action(J_target[sel], M0, fam)
-    return np.where(jbar <= 0.0, 0.0, k)
 
 
 def _kappa_grid(state, n_grid):

@@ -10,6 +10,9 @@ Conventions (checked against integrated orbits in tests/test_orbits.py):
 * J is the action of one torus, J = (1/2pi) oint p dtheta.  A rotating J labels two tori, one
   for each direction of motion; phase-space integrals must count both
   (`phase_space_weight` returns the multiplicity).
+* J-bar (`rescaled_action`: J/2 on librating orbits, J on rotating ones) is continuous across
+  the separatrix; `jbar_separatrix` and `kappa_from_rescaled_action` are its only separatrix
+  value and inverse in the library.
 * The angle w advances as Omega t.  Librating orbits have w = 0 at theta = 0, p > 0;
   rotating orbits have w = 0 at theta = 0 and w = +theta-like for p > 0 and w = -theta-like
   for p < 0 (eq. w), so the map (w, kappa, sign) -> (theta, p) covers both directions.
@@ -36,6 +39,8 @@ __all__ = [
     "phase_point",
     "phase_space_weight",
     "rescaled_action",
+    "jbar_separatrix",
+    "kappa_from_rescaled_action",
 ]
 
 
@@ -296,3 +301,49 @@ def rescaled_action(kappa, M0):
     kappa = _as_array(kappa)
     J = action(kappa, M0)
     return np.where(kappa < 1.0, 0.5 * J, J)
+
+
+def jbar_separatrix(M0):
+    """J-bar at the separatrix, 4 sqrt(M0)/pi from both sides (J-bar is continuous there)."""
+    return action_separatrix(M0, +1)
+
+
+def kappa_from_rescaled_action(jbar, M0, n_newton=6):
+    """kappa of the orbit with rescaled action J-bar (J = 2 J-bar below the separatrix).
+
+    A start from a tabulated inverse, then Newton steps on J(kappa) within the orbit family;
+    points that have not converged to 1e-13 relative go through bisection
+    (`kappa_from_action`).  J-bar <= 0 gives kappa = 0.
+    """
+    jbar = _as_array(jbar)
+    lib = jbar < jbar_separatrix(M0)
+    # table of the inverse, graded towards the separatrix
+    near = 10.0 ** -np.linspace(0.5, 15.0, 300)
+    kt = np.unique(
+        np.concatenate(
+            [
+                np.linspace(0.0, 1.0, 400)[:-1],
+                1.0 - near,
+                1.0 + near,
+                1.0
+                + np.geomspace(
+                    0.3, max(4.0, 2.0 * float(np.max(jbar, initial=0.0)) / np.sqrt(M0)), 400
+                ),
+            ]
+        )
+    )
+    k = np.interp(jbar, rescaled_action(kt, M0), kt)
+    J_target = np.where(lib, 2.0 * jbar, jbar)
+    lo = np.where(lib, 0.0, 1.0 + 1e-16)
+    hi = np.where(lib, 1.0 - 1e-16, np.inf)
+    k = np.clip(k, lo, hi)
+    for _ in range(n_newton):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = (action(k, M0) - J_target) / dJ_dkappa(k, M0)
+        k = np.clip(k - np.nan_to_num(step), lo, hi)
+    bad = ~(np.abs(action(k, M0) - J_target) <= 1e-13 * np.maximum(J_target, 1e-300))
+    bad &= J_target > 0
+    for fam, sel in (("libration", bad & lib), ("rotation", bad & ~lib)):
+        if np.any(sel):
+            k[sel] = kappa_from_action(J_target[sel], M0, fam)
+    return np.where(jbar <= 0.0, 0.0, k)
