@@ -3,7 +3,7 @@
     python benchmarks/bench_theory.py [--case fig6a|fig6b|ch2|M0.05|M0.9] [--n-kappa 400]
 
 Runs on one core (BLAS threads pinned to 1 before numpy is imported).  The grid is
-`hmfdiff.kinetic.theory.theory_dataset` with n_max = l_max = 6: Landau and Lenard-Balescu D_dif and
+`hmfdiff.kinetic.theory.theory_grid` with n_max = l_max = 6: Landau and Lenard-Balescu D_dif and
 D_pol at n_kappa points plus eps on 401 frequencies.  The baseline, timed in the same run on a
 few points and extrapolated, is what one would write first: eps(omega) by scipy.integrate.quad
 in kappa (QAWC Cauchy weight at each pole, found by brentq) for every frequency n Omega(kappa)
@@ -23,10 +23,11 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy import integrate, optimize  # noqa: E402
 
-from hmfdiff import orbits  # noqa: E402
-from hmfdiff.kinetic.theory import theory_dataset  # noqa: E402
+from hmfdiff.kinetic.theory import theory_grid  # noqa: E402
+from hmfdiff.meanfield import orbits  # noqa: E402
 from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState  # noqa: E402
 from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient_imag  # noqa: E402
+from hmfdiff.pipeline.layouts import theory_dataset  # noqa: E402
 
 CASES = {
     "fig6a": lambda: ThermalState(u=-0.1),
@@ -105,7 +106,7 @@ def main():
     t_state = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    ds = theory_dataset(state, n_kappa=args.n_kappa, n_max=6, l_max=6)
+    ds = theory_dataset(theory_grid(state, n_kappa=args.n_kappa, n_max=6, l_max=6))
     t_grid = time.perf_counter() - t0
     n_ok = int((ds["separatrix_mask"] == 0).sum())
     n_freq = 6 * n_ok + ds.sizes["omega"]
@@ -130,7 +131,7 @@ def main():
         f"grid: {args.n_kappa} kappa ({n_ok} outside the separatrix band), "
         f"{ds.sizes['omega']} omega, n_max = l_max = 6, Landau + Lenard-Balescu, D_dif + D_pol"
     )
-    print(f"hmfdiff.kinetic.theory.theory_dataset: {t_grid:8.2f} s (one core)")
+    print(f"hmfdiff.kinetic.theory.theory_grid: {t_grid:8.2f} s (one core)")
     print(
         f"baseline scipy.quad: {t_eps * 1e3:.0f} ms per eps(omega) x {n_freq} frequencies + "
         f"{t_root * 1e3:.0f} ms of brentq roots per kappa x {n_ok} kappa"

@@ -7,10 +7,11 @@ from scipy.special import ellipe, ellipk
 
 from hmfdiff.kinetic.diffusion import diffusion_coefficients
 from hmfdiff.kinetic.resonances import resonant_kappas
-from hmfdiff.kinetic.theory import theory_dataset
+from hmfdiff.kinetic.theory import theory_grid
 from hmfdiff.meanfield import orbits
 from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState
 from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient, sin_coefficient_imag
+from hmfdiff.pipeline.layouts import theory_dataset
 
 KAPPA = np.array([0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.3, 1.6, 2.0])
 
@@ -215,7 +216,7 @@ def test_convergence(states):
 
 def test_theory_dataset_contract():
     st = CoreHaloState(0.298, 0.051, -0.517, 0.19, 30, 10)
-    ds = theory_dataset(
+    grid = theory_grid(
         st,
         n_kappa=41,
         kappa_min=0.05,
@@ -223,6 +224,7 @@ def test_theory_dataset_contract():
         separatrix_band=0.03,
         omega=np.linspace(0, 3, 31),
     )
+    ds = theory_dataset(grid)
     masked = np.abs(ds.kappa.values - 1) < 0.03
     assert masked.any()
     for v in (
@@ -247,7 +249,7 @@ def test_theory_dataset_contract():
     assert ds.attrs["n_max"] == 6 and ds.attrs["l_max"] == 6
     step = CoreHaloState(0.298, 0.051, -0.517, 0.19, shape="step")
     with pytest.raises(NotImplementedError, match="analytic"):
-        theory_dataset(step, n_kappa=5)
+        theory_grid(step, n_kappa=5)
     with pytest.raises(NotImplementedError, match="analytic"):
         diffusion_coefficients(step, [0.5])
     r = diffusion_coefficients(step, [0.3, 0.5, 1.5], collective=False)  # needs f only

@@ -1,8 +1,8 @@
 """Rule validation: results/validation.csv (MD against theory) and a printed summary."""
 
 from hmfdiff.analysis.fits import summarise_validation, validation_rows, write_validation_csv
-from hmfdiff.pipeline.datasets import state_from_dataset
 from hmfdiff.pipeline.io import read_dataset
+from hmfdiff.pipeline.layouts import state_from_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

@@ -16,9 +16,9 @@ the error: the method is recorded in the attributes).
 from __future__ import annotations
 
 import numpy as np
-import xarray as xr
 
 from ..meanfield import orbits
+from ..pipeline.layouts import fit_dataset
 
 __all__ = ["FitError", "fit_slope", "diffusion_fit", "theory_at_bins", "validation_rows"]
 
@@ -61,17 +61,8 @@ def _action_jacobian_sq(jbar0, M0):
     return np.where(np.asarray(jbar0) < orbits.action_separatrix(M0, +1), 4.0, 1.0)
 
 
-def kappa_of_jbar(jbar, M0):
-    """kappa of the orbit with rescaled action J-bar (J-bar = J/2 below the separatrix)."""
-    jbar = np.asarray(jbar, dtype=float)
-    js = orbits.action_separatrix(M0, +1)  # 4 sqrt(M0)/pi, J-bar at the separatrix
-    lib = jbar < js
-    out = np.empty_like(jbar)
-    if lib.any():
-        out[lib] = orbits.kappa_from_action(2.0 * jbar[lib], M0, "libration")
-    if (~lib).any():
-        out[~lib] = orbits.kappa_from_action(jbar[~lib], M0, "rotation")
-    return out
+#: kappa of the orbit with rescaled action J-bar (the one inverse lives in `orbits`)
+kappa_of_jbar = orbits.kappa_from_rescaled_action
 
 
 def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
@@ -153,92 +144,40 @@ def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
     seeds = [int(ds.attrs.get("seed", i)) for i, ds in enumerate(datasets)]
     jrange = ref.attrs.get("jbar_range", "none")
     jrange = "none" if isinstance(jrange, str) else [float(x) for x in np.atleast_1d(jrange)]
-    out = xr.Dataset(
+    return fit_dataset(
         {
-            "ND_md": (
-                "bin",
-                ND,
-                {
-                    "units": "action^2/time",
-                    "long_name": "N D_MD = N slope/2 of <dJ^2>(dt) (eq. hmfmddif), J units",
-                },
+            "ND_md": ND,
+            "ND_md_err": err,
+            "ND_md_seed": per
+            if len(datasets) >= 2
+            else np.full((len(datasets), jbar0.size), np.nan),
+            "intercept": intercept,
+            "msd": msd_pooled,
+            "n_particles_in_bin": n_part,
+            "kappa0": kappa0,
+            "J0": orbits.action(kappa0, M0),
+            "flag": flag,
+            "flags": FLAGS,
+            "M0": M0,
+            "jbar0": jbar0,
+            "jbar_edges": ref["jbar_edges"].values,
+            "lag": lag,
+            "seed": seeds,
+            "attrs": dict(
+                fit_window=list(map(float, window)),
+                N=N,
+                n_seeds=len(datasets),
+                min_particles=int(min_particles),
+                separatrix_band=float(separatrix_band),
+                error_method=method,
+                dynamics=str(ref.attrs.get("dynamics", "")),
+                D_convention="<dJ^2> = 2 D dt; N*D stored",
+                n_test=int(ref.attrs.get("n_test", 0)),
+                test_sampling=str(ref.attrs.get("test_sampling", "none")),
+                jbar_range=jrange,
             ),
-            "ND_md_err": (
-                "bin",
-                err,
-                {
-                    "units": "action^2/time",
-                    "long_name": "standard error of ND_md",
-                    "method": method,
-                },
-            ),
-            "ND_md_seed": (
-                ("seed", "bin"),
-                per if len(datasets) >= 2 else np.full((len(datasets), jbar0.size), np.nan),
-                {"units": "action^2/time", "long_name": "N D_MD of each seed"},
-            ),
-            "intercept": (
-                "bin",
-                intercept,
-                {"units": "action^2", "long_name": "intercept of the linear fit"},
-            ),
-            "msd": (
-                ("bin", "lag"),
-                msd_pooled,
-                {
-                    "units": "action^2",
-                    "long_name": "<dJ^2>(dt) pooled over seeds, J units "
-                    "(4 <dJbar^2> below the separatrix)",
-                },
-            ),
-            "n_particles_in_bin": (
-                "bin",
-                n_part,
-                {"units": "1", "long_name": "tracked particles per bin, all seeds"},
-            ),
-            "kappa0": ("bin", kappa0, {"units": "1", "long_name": "kappa at the bin centre"}),
-            "J0": (
-                "bin",
-                orbits.action(kappa0, M0),
-                {"units": "action", "long_name": "action J at the bin centre"},
-            ),
-            "flag": (
-                "bin",
-                flag,
-                {
-                    "units": "1",
-                    "long_name": "bin quality",
-                    "flag_values": " ".join(map(str, FLAGS)),
-                    "flag_meanings": "; ".join(FLAGS.values()),
-                },
-            ),
-            "M0": ((), M0, {"units": "1", "long_name": "magnetisation used for the actions"}),
-        },
-        coords={
-            "jbar0": ("bin", jbar0, {"units": "action", "long_name": "bin centre, J-bar_0"}),
-            "jbar_edges": (
-                "edge",
-                ref["jbar_edges"].values,
-                {"units": "action", "long_name": "edges of the J-bar_0 bins"},
-            ),
-            "lag": ("lag", lag, {"units": "time", "long_name": "time lag dt"}),
-            "seed": ("seed", seeds),
-        },
+        }
     )
-    out.attrs.update(
-        fit_window=list(map(float, window)),
-        N=N,
-        n_seeds=len(datasets),
-        min_particles=int(min_particles),
-        separatrix_band=float(separatrix_band),
-        error_method=method,
-        dynamics=str(ref.attrs.get("dynamics", "")),
-        D_convention="<dJ^2> = 2 D dt; N*D stored",
-        n_test=int(ref.attrs.get("n_test", 0)),
-        test_sampling=str(ref.attrs.get("test_sampling", "none")),
-        jbar_range=jrange,
-    )
-    return out
 
 
 def theory_at_bins(theory, kappa0, dynamics):

@@ -29,7 +29,7 @@ from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 from .dielectric import DielectricTensor
 from .resonances import BRANCHES, resonant_kappas
 
-__all__ = ["resonance_table", "diffusion_coefficients"]
+__all__ = ["resonance_table", "coefficients_from_table", "diffusion_coefficients"]
 
 #: kappa* closer than this to the separatrix contribute exactly 0 (their weight ~ |1 - kappa*|)
 SEPARATRIX_ROUNDING = 1e-12
@@ -113,10 +113,19 @@ def diffusion_coefficients(state, kappa, n_max=6, l_max=6, collective=True, eps=
     """
     kappa = np.atleast_1d(np.asarray(kappa, dtype=float))
     table = resonance_table(state, kappa, n_max)
-    return _coefficients_from_table(state, kappa, table, n_max, l_max, collective, eps, accuracy)
+    return coefficients_from_table(
+        state, kappa, table, n_max=n_max, l_max=l_max, collective=collective, eps=eps, **accuracy
+    )
 
 
-def _coefficients_from_table(state, kappa, table, n_max, l_max, collective, eps, accuracy):
+def coefficients_from_table(state, kappa, table, *, n_max, l_max, collective, eps=None, **accuracy):
+    """N D_dif and N D_pol at the test orbits kappa from a precomputed `resonance_table(state,
+    kappa, n_max)`: the bare terms weighted by 1/|eps(n Omega(kappa))|^2 and summed.
+
+    One table serves both the Landau (collective=False) and the Lenard-Balescu
+    (collective=True) coefficients; eps, l_max and `accuracy` as in `diffusion_coefficients`,
+    which returns the same dict.
+    """
     Om = orbits.frequency(kappa, state.M0)
     omega = np.arange(1, n_max + 1)[:, None] * Om[None, :]  # (n_max, K)
     if collective:
