@@ -1,4 +1,4 @@
-"""Benchmark of the HMF molecular dynamics kernels (hmfdiff.dynamics.md) at the paper's N = 5e5.
+"""Benchmark of the HMF molecular dynamics kernels (hmfdiff.dynamics) at the paper's N = 5e5.
 
 Prints particle-steps per second of the full dynamics (eq. hmfmdfull) and of the bath dynamics
 (eq. hmfmdbath: N_b bath particles in the static field plus test particles), the cost of one
@@ -26,6 +26,7 @@ import numba
 import numpy as np
 
 from hmfdiff.dynamics import accumulator, elementary, integrator, md, sampling
+from hmfdiff.dynamics.settings import MDRun
 from hmfdiff.meanfield import equilibrium, orbits
 
 M0 = 0.72846
@@ -86,29 +87,34 @@ def measure(n, threads, n_test_bath):
     dt = 0.05
     # warm the compiler on small arrays (same types)
     small = integrator.Particles(th[:100], p[:100])
-    integrator.advance_system(
-        "full", small, integrator.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0
-    )
-    integrator.advance_system(
-        "bath", small, integrator.Particles(th[:10], p[:10]), small.moments()[:2], 3, dt, M0
-    )
+    for dynamics in ("full", "bath"):
+        integrator.advance_system(
+            small,
+            integrator.Particles(th[:10], p[:10]),
+            dynamics=dynamics,
+            M=small.moments()[:2],
+            n_steps=3,
+            dt=dt,
+            M0=M0,
+        )
     elementary.actions(th[:100], p[:100], M0, 0.1)
 
     n_steps = 200
     P = integrator.Particles(th, p)
     empty = integrator.Particles(np.zeros(0), np.zeros(0))
     M = P.moments()[:2]
-    t_full = best_of(lambda: integrator.advance_system("full", P, empty, M, n_steps, dt, M0))
+    steps = dict(M=M, n_steps=n_steps, dt=dt, M0=M0)
+    t_full = best_of(lambda: integrator.advance_system(P, empty, dynamics="full", **steps))
     # load-robust figure: one thread, CPU time of this process (what a core delivers)
     numba.set_num_threads(1)
     cpu = np.inf
     for _ in range(3):
         c0 = time.process_time()
-        integrator.advance_system("full", P, empty, M, n_steps, dt, M0)
+        integrator.advance_system(P, empty, dynamics="full", **steps)
         cpu = min(cpu, time.process_time() - c0)
     numba.set_num_threads(threads)
     B, T = integrator.Particles(th, p), integrator.Particles(th_t, p_t)
-    t_bath = best_of(lambda: integrator.advance_system("bath", B, T, M, n_steps, dt, M0))
+    t_bath = best_of(lambda: integrator.advance_system(B, T, dynamics="bath", **steps))
     t_act = best_of(lambda: elementary.actions(P.theta, P.p, M0, 0.01), reps=5)
     # <dJ^2> accumulation: cost per (active origin, particle) at one sampling time
     J, Jb = elementary.actions(P.theta, P.p, M0, 0.01)
@@ -153,23 +159,22 @@ def memory_run(n, threads):
     t = time.perf_counter()
     # 100 slots of the ring buffer: max_lag / origin_every + 1 = 100, and t_max >= 2 max_lag
     # so that more than 100 origins complete their window
-    ds = md.run_md(
-        state,
+    run = MDRun(
         dynamics="full",
         n_particles=n,
+        n_test=0,
         dt=0.25,
         t_max=100.0,
         sample_every=0.5,
         max_lag=49.5,
         origin_every=0.5,
-        jbar_edges=np.linspace(0, 2.0, 41),
-        seed=0,
-        threads=threads,
+        kappa_max=float(orbits.kappa_from_rescaled_action(2.0, M0)),
+        n_bins=40,
         n_blocks=2,
-        progress=None,
     )
+    res = md.run_md(state, run, seed=0, threads=threads, progress=None)
     wall = time.perf_counter() - t
-    assert ds.attrs["n_origins"] >= 100
+    assert res.attrs["n_origins"] >= 100
     rss_gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e9  # KiB on Linux
     return rss_gb, wall
 

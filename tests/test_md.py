@@ -1,4 +1,4 @@
-"""Tests of the HMF molecular dynamics (hmfdiff.dynamics.md): kernels against numpy / scipy, the
+"""Tests of the HMF molecular dynamics (hmfdiff.dynamics): kernels against numpy / scipy, the
 integrator's conservation laws and reversibility, the frame of the magnetisation, determinism,
 and the <dJ^2> accumulator on synthetic data with a known answer."""
 
@@ -7,7 +7,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from hmfdiff.dynamics import accumulator, elementary, integrator, md, sampling
+from hmfdiff.dynamics.integrator import Field
+from hmfdiff.dynamics.settings import MDRun
 from hmfdiff.meanfield import equilibrium, orbits
+from hmfdiff.pipeline.layouts import md_dataset
 
 M0 = 0.72846  # paper case (u, M0) = (-0.1, 0.72846)
 
@@ -59,7 +62,7 @@ def test_action_agm_matches_orbits():
         ]
     )
     for m0 in (0.05, M0, 0.95):
-        J, Jb = elementary.action_numba(kappa, m0)
+        J, Jb = elementary.actions_from_kappa(kappa, m0)
         Jref = orbits.action(kappa, m0)
         assert np.max(np.abs(J / Jref - 1)) < 1e-13
         np.testing.assert_array_equal(Jb, np.where(kappa < 1, 0.5 * J, J))
@@ -109,7 +112,7 @@ def test_full_dynamics_conserves_energy_and_momentum(state):
         e0, p0 = energy_momentum()
         err, perr = 0.0, 0.0
         for _ in range(int(round(100 / dt / 40))):
-            integrator.leapfrog(P, 40, dt, "self")
+            integrator.leapfrog(P, 40, dt=dt, field=Field.SELF)
             e, pm = energy_momentum()
             err = max(err, abs(e - e0) / abs(e0))
             perr = max(perr, abs(pm - p0))
@@ -122,9 +125,9 @@ def test_full_dynamics_conserves_energy_and_momentum(state):
 def test_time_reversibility(state):
     th, p = thermal_particles(state, 3000, seed=4)
     P = integrator.Particles(th, p)
-    integrator.leapfrog(P, 1000, 0.05, "self")
+    integrator.leapfrog(P, 1000, dt=0.05, field=Field.SELF)
     assert np.max(np.abs(P.p - p)) > 1e-2  # it did move
-    integrator.leapfrog(P, 1000, -0.05, "self")
+    integrator.leapfrog(P, 1000, dt=-0.05, field=Field.SELF)
     assert np.max(np.abs(sampling.wrap_angle(P.theta - th))) < 1e-10
     assert np.max(np.abs(P.p - p)) < 1e-10
 
@@ -146,14 +149,14 @@ def test_static_field_pendulum_keeps_action_and_matches_ode():
         P = integrator.Particles(th0, p0)
         err = 0.0
         for _ in range(25):
-            integrator.leapfrog(P, int(round(4 / dt)), dt, "static", M0, 0.0)
+            integrator.leapfrog(P, int(round(4 / dt)), dt=dt, field=Field.STATIC, fx=M0)
             err = max(err, np.max(np.abs(elementary.actions(P.theta, P.p, M0)[0] / J0 - 1)))
         errs.append(err)
     assert errs[0] < 2e-3
     assert 3.0 < errs[0] / errs[1] < 5.5
     # trajectory against scipy's DOP853 over t = 10
     P = integrator.Particles(th0[::8], p0[::8])
-    integrator.leapfrog(P, 10000, 0.001, "static", M0, 0.0)
+    integrator.leapfrog(P, 10000, dt=0.001, field=Field.STATIC, fx=M0)
     y0 = np.concatenate([th0[::8], p0[::8]])
     n = y0.size // 2
     sol = solve_ivp(
@@ -182,7 +185,7 @@ def test_rotation_leaves_frame_actions_unchanged(state):
             J.append(elementary.actions(P.theta, P.p, M0, np.arctan2(m[1], m[0]))[0])
         assert np.max(np.abs(J[0] - J[1])) < (1e-12 if k == 0 else 1e-8)
         for P in (P1, P2):
-            integrator.leapfrog(P, 200, 0.05, "self")
+            integrator.leapfrog(P, 200, dt=0.05, field=Field.SELF)
 
 
 # ------------------------------------------------------------------ accumulator
@@ -242,34 +245,33 @@ def test_accumulator_random_walk_librating():
 
 
 # ------------------------------------------------------------------ driver
+# bins of J-bar_0: 6 uniform bins over [0, 1.5] (kappa_max is the orbit with J-bar = 1.5)
 RUN = dict(
     dt=0.05,
     t_max=20.0,
     sample_every=0.5,
     max_lag=5.0,
     origin_every=1.0,
-    jbar_edges=np.linspace(0.0, 1.5, 7),
+    kappa_max=float(orbits.kappa_from_rescaled_action(1.5, M0)),
+    n_bins=6,
     n_blocks=4,
 )
 
 
+def run_dataset(state, run, seed, **kw):
+    return md_dataset(md.run_md(state, run, seed, progress=None, **kw))
+
+
 def test_run_md_deterministic_and_thread_independent(state):
-    kw = dict(
-        RUN,
-        dynamics="full",
-        n_particles=3000,
-        n_test=50,
-        test_sampling="uniform",
-        jbar_range=(0.2, 1.4),
-        seed=9,
-    )
-    a = md.run_md(state, threads=2, progress=None, **kw)
-    b = md.run_md(state, threads=2, progress=None, **kw)
-    c = md.run_md(state, threads=1, progress=None, **kw)
+    run = MDRun(**RUN, dynamics="full", n_particles=3000, n_test=50, jbar_range=(0.2, 1.4))
+    np.testing.assert_allclose(run.jbar_edges(M0), np.linspace(0.0, 1.5, 7), rtol=1e-12)
+    a = run_dataset(state, run, 9, threads=2)
+    b = run_dataset(state, run, 9, threads=2)
+    c = run_dataset(state, run, 9, threads=1)
     for v in ("sum_dJ2", "sum_dJbar2", "count", "Mx", "My", "energy", "sample_p"):
         np.testing.assert_array_equal(a[v].values, b[v].values)
         np.testing.assert_array_equal(a[v].values, c[v].values)
-    d = md.run_md(state, threads=2, progress=None, **dict(kw, member=1))
+    d = run_dataset(state, run, 9, threads=2, member=1)
     assert not np.array_equal(a["sum_dJ2"].values, d["sum_dJ2"].values)
     # energy per particle conserved and equal to the thermal u up to sampling noise
     e = a["energy"].values
@@ -280,17 +282,14 @@ def test_run_md_deterministic_and_thread_independent(state):
 
 
 def test_run_md_bath(state):
-    ds = md.run_md(
-        state,
+    run = MDRun(
+        **dict(RUN, t_equilibrate=1.0),
         dynamics="bath",
         n_particles=3000,
         n_test=400,
-        seed=1,
-        threads=2,
-        t_equilibrate=1.0,
-        progress=None,
-        **RUN,
+        test_sampling="f",
     )
+    ds = run_dataset(state, run, 1, threads=2)
     e = ds["energy"].values  # bath energy in the static field: conserved
     assert np.max(np.abs(e - e[0])) < 1e-4
     assert ds.attrs["dynamics"] == "bath" and ds.attrs["n_tracked"] == 400
@@ -313,11 +312,20 @@ def test_run_md_bath(state):
         (dict(dynamics="both"), "dynamics"),
         (dict(n_blocks=100), "n_blocks"),
         (dict(threads=0), "threads"),
-        (dict(test_sampling="uniform", n_test=5), "jbar_range"),
+        (dict(test_sampling="uniform", n_test=5, jbar_range=(1.0, 0.5)), "jbar_range"),
     ],
 )
 def test_run_md_validates_inputs(state, change, word):
-    kw = dict(RUN, dynamics="full", n_particles=100, seed=0)
+    kw = dict(RUN, dynamics="full", n_particles=100, n_test=0)
     kw.update(change)
     with pytest.raises(ValueError, match=word):
-        md.run_md(state, progress=None, **kw)
+        md.run_md(state, MDRun(**kw), seed=0, progress=None)
+
+
+def test_run_md_refuses_more_threads_than_cores(state):
+    import numba
+
+    run = MDRun(**RUN, dynamics="full", n_particles=100, n_test=0)
+    too_many = numba.config.NUMBA_NUM_THREADS + 1
+    with pytest.raises(ValueError, match=rf"threads = {too_many} must be an integer in \[1, "):
+        md.run_md(state, run, seed=0, threads=too_many, progress=None)

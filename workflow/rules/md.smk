@@ -12,14 +12,12 @@ rule md:
         seed=r"\d+",
     conda:
         "../envs/hmfdiff.yaml"
-    threads: config["md"]["threads"]
+    threads: lambda w: md_run(w.case, w.dynamics).threads
     resources:
         mem_mb=lambda w: md_mem_mb(w.case, w.dynamics),
         runtime=lambda w: md_runtime_min(w.case, w.dynamics),
     params:
-        run=lambda w: json.dumps(
-            md_run(w.case, w.dynamics, int(w.seed)), sort_keys=True
-        ),
+        run=lambda w: md_run(w.case, w.dynamics).realisation_json(),
     script:
         "../scripts/md.py"
 

@@ -6,8 +6,11 @@ vectorisable sincos (`_sincos`: quadrant reduction with a three-part pi/2, error
 up to ~1e5) serves the action evaluation.  Both are tested against numpy.
 
 Actions (eq. hmfaction): J and J-bar of particles at (theta, p), with the static M0, in a frame
-rotated by `phase`; K and E by the arithmetic-geometric mean (~1e-15 relative, tested against
-`hmfdiff.meanfield.orbits.action`).
+rotated by `phase` (`actions`), or of orbit labels kappa (`actions_from_kappa`).  Both go
+through one arithmetic-geometric-mean routine (`_agm_actions`, the J formulas written once).
+The library's definition of J stays `hmfdiff.meanfield.orbits.action` (scipy's elliptic
+integrals, used by the sampler and the theory); the compiled AGM matches it to ~1e-15 relative
+(tests/test_md.py) and exists because the MD evaluates it for every particle at every sample.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["sincos_array", "sincos_wrapped_array", "action_numba", "actions"]
+__all__ = ["sincos_array", "sincos_wrapped_array", "actions_from_kappa", "actions"]
 
 # no 'nnan'/'ninf': NaN checks must keep working (numba's fastmath=True would assume no NaN)
 _FM = {"reassoc", "contract", "arcp", "nsz"}
@@ -158,76 +161,24 @@ _AGM_ITERATIONS = 10  # enough for k' >= 1e-8, i.e. every kappa != 1 in double p
 
 
 @njit(fastmath=_FM)
-def _action_of_kappa2(k2, sqrtM0):
-    """(J, J-bar) of the orbit with kappa^2 = k2, eq. (hmfaction), branch-free (vectorises).
+def _agm_actions(k2, sqrtM0, J, Jbar):
+    """(J, J-bar) of the orbits with kappa^2 = k2 (a chunk), eq. (hmfaction): the one AGM
+    evaluation of the library's compiled code.
 
     K(m) = pi / (2 AGM(1, k')) and E = K (1 - m/2 - S), S = sum_{n>=1} 2^(n-1) c_n^2 with
-    c_{n+1} = c_n^2 / (4 a_{n+1}) (Gauss-Legendre AGM, DLMF 19.8), a fixed number of steps.
-    Librating (m = kappa^2): J = (8 sqrt(M0)/pi) [E - (1-m) K] = (8 sqrt(M0)/pi) K (m/2 - S),
-    free of cancellation at small kappa; rotating (m = 1/kappa^2):
-    J = (4 sqrt(M0)/pi) kappa E(m).  J-bar = J/2 on librating orbits.
+    c_{n+1} = c_n^2 / (4 a_{n+1}) (Gauss-Legendre AGM, DLMF 19.8).  Librating (m = kappa^2):
+    J = (8 sqrt(M0)/pi) [E - (1-m) K] = (8 sqrt(M0)/pi) K (m/2 - S), free of cancellation at
+    small kappa; rotating (m = 1/kappa^2): J = (4 sqrt(M0)/pi) kappa E(m); J-bar = J/2 on
+    librating orbits.  The AGM runs with the loops interchanged (each step over the whole
+    chunk), so that every loop vectorises, and stops when every c_n has converged.
     """
-    lib = k2 < 1.0
-    m = k2 if lib else 1.0 / k2
-    m1 = 1.0 - k2 if lib else (k2 - 1.0) / k2
-    a = 1.0
-    b = math.sqrt(m1)
-    c2 = m
-    S = 0.0
-    w = 0.5
-    for _ in range(_AGM_ITERATIONS):
-        a1 = 0.5 * (a + b)
-        b = math.sqrt(a * b)
-        cn = c2 / (4.0 * a1)
-        a = a1
-        c2 = cn * cn
-        w *= 2.0
-        S += w * c2
-    K = math.pi / (2.0 * a)
-    J_lib = 8.0 * sqrtM0 / math.pi * K * (0.5 * m - S)
-    J_rot = 4.0 * sqrtM0 / math.pi * math.sqrt(k2) * K * (1.0 - 0.5 * m - S)
-    J = J_lib if lib else J_rot
-    J = 4.0 * sqrtM0 / math.pi if k2 == 1.0 else J
-    Jbar = 0.5 * J if lib else J
-    return J, Jbar
-
-
-@njit(fastmath=_FM)
-def _chunk_kappa_actions(kappa, sqrtM0, J, Jbar):
-    for i in range(kappa.size):
-        a, b = _action_of_kappa2(kappa[i] * kappa[i], sqrtM0)
-        J[i] = a
-        Jbar[i] = b
-
-
-def action_numba(kappa, M0):
-    """(J, J-bar) of orbits kappa with magnetisation M0 (numba, AGM); see orbits.action."""
-    k = np.ascontiguousarray(kappa, dtype=np.float64).ravel()
-    J = np.empty_like(k)
-    Jb = np.empty_like(k)
-    _chunk_kappa_actions(k, math.sqrt(M0), J, Jb)
-    return J.reshape(np.shape(kappa)), Jb.reshape(np.shape(kappa))
-
-
-@njit(fastmath=_FM)
-def _chunk_phase_actions(theta, p, phase, M0, J, Jbar):
-    """(J, J-bar) of a chunk of phase points; the AGM runs with the loops interchanged (each
-    AGM step over the whole chunk) so that every loop vectorises."""
-    n = theta.size
-    sqrtM0 = math.sqrt(M0)
-    inv4M0 = 1.0 / (4.0 * M0)
-    k2 = np.empty(n)
+    n = k2.size
     a = np.empty(n)
     b = np.empty(n)
     c2 = np.empty(n)
     S = np.zeros(n)
     for i in range(n):
-        th = theta[i] - phase
-        th = th - _TWO_PI * np.floor(th * _INV_TWO_PI + 0.5)
-        s, _ = _sincos(0.5 * th)
-        # kappa^2 = p^2/(4 M0) + sin^2(theta/2), free of the cancellation in h + M0
-        q = p[i] * p[i] * inv4M0 + s * s
-        k2[i] = q
+        q = k2[i]
         lib = q < 1.0
         c2[i] = q if lib else 1.0 / q  # c_0^2 = m
         b[i] = math.sqrt(1.0 - q if lib else (q - 1.0) / q)  # k'
@@ -259,6 +210,41 @@ def _chunk_phase_actions(theta, p, phase, M0, J, Jbar):
         Jv = 4.0 * sqrtM0 / math.pi if q == 1.0 else Jv
         J[i] = Jv
         Jbar[i] = 0.5 * Jv if lib else Jv
+
+
+@njit(fastmath=_FM)
+def _chunk_phase_actions(theta, p, phase, M0, J, Jbar):
+    """(J, J-bar) of a chunk of phase points (theta, p) in the frame rotated by `phase`."""
+    n = theta.size
+    inv4M0 = 1.0 / (4.0 * M0)
+    k2 = np.empty(n)
+    for i in range(n):
+        th = theta[i] - phase
+        th = th - _TWO_PI * np.floor(th * _INV_TWO_PI + 0.5)
+        s, _ = _sincos(0.5 * th)
+        # kappa^2 = p^2/(4 M0) + sin^2(theta/2), free of the cancellation in h + M0
+        k2[i] = p[i] * p[i] * inv4M0 + s * s
+    _agm_actions(k2, math.sqrt(M0), J, Jbar)
+
+
+@njit(parallel=True)
+def _kappa_actions_kernel(kappa, sqrtM0, J, Jbar):
+    n = kappa.size
+    n_chunks = (n + _CHUNK - 1) // _CHUNK
+    for ch in prange(n_chunks):
+        lo = ch * _CHUNK
+        hi = min(lo + _CHUNK, n)
+        _agm_actions(kappa[lo:hi] * kappa[lo:hi], sqrtM0, J[lo:hi], Jbar[lo:hi])
+
+
+def actions_from_kappa(kappa, M0):
+    """(J, J-bar) of the orbits kappa with magnetisation M0 (compiled AGM; the reference is
+    `hmfdiff.meanfield.orbits.action`, which it matches to ~1e-15 relative)."""
+    k = np.ascontiguousarray(kappa, dtype=np.float64).ravel()
+    J = np.empty_like(k)
+    Jb = np.empty_like(k)
+    _kappa_actions_kernel(k, math.sqrt(M0), J, Jb)
+    return J.reshape(np.shape(kappa)), Jb.reshape(np.shape(kappa))
 
 
 @njit(parallel=True)

@@ -1,5 +1,6 @@
 """Velocity-Verlet (kick-drift-kick leapfrog) integration of HMF particles (eqs. hmfmdbath,
-hmfmdfull).
+hmfmdfull): `Particles` (angles, momenta, cached sin and cos), the field that drives them
+(`Field`), `leapfrog` for one population and `advance_system` for the MD's bath and tracers.
 
 Consecutive half kicks are fused, so one pass over the particles per step updates p and theta
 and accumulates sum cos, sum sin of the new angles; a last half kick re-synchronises p with
@@ -10,15 +11,29 @@ number of chunks (independent of the thread count) whose partial sums are combin
 
 from __future__ import annotations
 
+import enum
+
 import numpy as np
 from numba import njit, prange
 
 from . import sampling
 from .elementary import _CHUNK, _FM, _INV_TWO_PI, _TWO_PI, _sincos_wrapped, sincos_wrapped_array
 
-__all__ = ["INTEGRATOR", "Particles", "leapfrog", "advance_system"]
+__all__ = ["INTEGRATOR", "Field", "Particles", "leapfrog", "advance_system"]
 
 INTEGRATOR = "velocity Verlet (kick-drift-kick leapfrog), 2nd order, symplectic"
+
+
+class Field(enum.Enum):
+    """The field (Fx, Fy) that drives particles: p' = -Fx sin theta + Fy cos theta."""
+
+    STATIC = "static"  # a constant field (fx, fy): the bath of eq. hmfmdbath, (M0, 0)
+    SELF = "self"  # the particles' own magnetisation (eq. hmfmdfull)
+    EXTERNAL = "external"  # a prescribed history, one (Fx, Fy) per step (test particles)
+
+
+# the kernel's integer code of each field kind
+_FIELD_CODE = {Field.STATIC: 0, Field.SELF: 1, Field.EXTERNAL: 2}
 
 
 @njit(fastmath=_FM)
@@ -51,11 +66,11 @@ def _kick_drift(theta, p, S, C, first_kick, kick, dt, fx, fy, n_steps, field, ou
     """n_steps fused leapfrog steps of particles (theta, p, S = sin theta, C = cos theta), in place.
 
     Step j: p += h_j (-Fx sin theta + Fy cos theta); theta += dt p; theta wrapped to [-pi, pi);
-    h_0 = first_kick, h_j = kick for j > 0.  (Fx, Fy) at step j:
-      field == 0: (fx, fy) constant (static field);
-      field == 1: self-consistent: the magnetisation of these particles at the current time
-                  (fx, fy on entry are the magnetisation of the initial angles);
-      field == 2: external history: out[j, 2], out[j, 3] hold (Fx, Fy) of step j.
+    h_0 = first_kick, h_j = kick for j > 0.  (Fx, Fy) at step j, by the code of the `Field`:
+      0 (STATIC): (fx, fy) constant;
+      1 (SELF): the magnetisation of these particles at the current time (fx, fy on entry are
+                the magnetisation of the initial angles);
+      2 (EXTERNAL): out[j, 2], out[j, 3] hold (Fx, Fy) of step j.
     out[j, 0], out[j, 1] = mean cos, mean sin of the angles after step j.
     Reductions go through fixed chunks combined in order (deterministic for any thread count).
     """
@@ -148,77 +163,87 @@ class Particles:
         """(Mx, My, mean p, mean p^2)."""
         return _moments(self.p, self.S, self.C)
 
-    def steps(self, n_steps, dt, first_kick, kick, field, fx=0.0, fy=0.0, history=None):
-        """n_steps fused steps (see `_kick_drift`); returns the (n_steps, 4) history array."""
+    def open_steps(self, n_steps, *, dt, field, fx=0.0, fy=0.0, history=None):
+        """n_steps fused velocity-Verlet steps of time step dt, opened by a half kick: on return
+        p lags theta by half a kick, which `close_steps` applies.
+
+        field: a `Field`.  STATIC: the constant (fx, fy); SELF: the particles' magnetisation,
+        (fx, fy) being that of the current angles; EXTERNAL: history[j, 2:4] is (Fx, Fy) at
+        step j.  Returns the (n_steps, 4) history: columns 0, 1 hold mean cos, mean sin of the
+        angles after each step (written into `history` if given)."""
         out = np.zeros((n_steps, 4)) if history is None else history
         _kick_drift(
             self.theta,
             self.p,
             self.S,
             self.C,
-            float(first_kick),
-            float(kick),
+            float(0.5 * dt),
+            float(dt),
             float(dt),
             float(fx),
             float(fy),
             int(n_steps),
-            int(field),
+            _FIELD_CODE[Field(field)],
             out,
         )
         return out
 
-    def kick(self, h, fx, fy):
-        _kick(self.p, self.S, self.C, float(h), float(fx), float(fy))
+    def close_steps(self, *, dt, fx, fy):
+        """The closing half kick p += (dt/2) (-fx sin theta + fy cos theta): p and theta are
+        synchronised again."""
+        _kick(self.p, self.S, self.C, float(0.5 * dt), float(fx), float(fy))
 
 
-def leapfrog(particles, n_steps, dt, field, fx=0.0, fy=0.0):
-    """n_steps velocity-Verlet steps (p synchronised with theta at the end).
+def leapfrog(particles, n_steps, dt, field=Field.SELF, *, fx=0.0, fy=0.0):
+    """n_steps velocity-Verlet steps of time step dt (p synchronised with theta at the end).
 
-    field 'self': the particles' own magnetisation (eq. hmfmdfull); 'static': the constant
-    field (fx, fy).  Returns the magnetisation after each step, shape (n_steps, 2)."""
+    field: Field.SELF (or 'self'), the particles' own magnetisation (eq. hmfmdfull);
+    Field.STATIC (or 'static'), the constant field (fx, fy).  Returns the magnetisation after
+    each step, shape (n_steps, 2)."""
+    field = Field(field)
     if n_steps < 1:
         return np.zeros((0, 2))
-    if field == "self":
+    if field is Field.SELF:
         m = particles.moments()
-        out = particles.steps(n_steps, dt, 0.5 * dt, dt, 1, m[0], m[1])
-        particles.kick(0.5 * dt, out[-1, 0], out[-1, 1])
-    elif field == "static":
-        out = particles.steps(n_steps, dt, 0.5 * dt, dt, 0, fx, fy)
-        particles.kick(0.5 * dt, fx, fy)
+        out = particles.open_steps(n_steps, dt=dt, field=field, fx=m[0], fy=m[1])
+        particles.close_steps(dt=dt, fx=out[-1, 0], fy=out[-1, 1])
+    elif field is Field.STATIC:
+        out = particles.open_steps(n_steps, dt=dt, field=field, fx=fx, fy=fy)
+        particles.close_steps(dt=dt, fx=fx, fy=fy)
     else:
-        raise ValueError(f"field = {field!r}: must be 'self' or 'static'")
+        raise ValueError(f"field = {field!r}: leapfrog takes Field.SELF or Field.STATIC")
     return out[:, :2].copy()
 
 
-def advance_system(dynamics, bath, test, M, n_steps, dt, M0, work=None):
+def advance_system(bath, test, *, dynamics, M, n_steps, dt, M0, work=None):
     """Advance bath / interacting particles and test particles by n_steps velocity-Verlet steps.
 
     dynamics 'full': `bath` holds the N interacting particles (eq. hmfmdfull); 'bath': `bath`
     feels the static field M0 on x (eq. hmfmdbath).  Test particles (`test`, may be empty) feel
     the instantaneous magnetisation of `bath` without feeding back.  M is the magnetisation of
     `bath` on entry; returns it after the steps.  p is synchronised with theta on return.
+    work: two (>= n_steps, 4) scratch arrays, reused between calls.
     """
     if n_steps < 1:
         return M
     if work is None or work[0].shape[0] < n_steps:
         work = (np.zeros((n_steps, 4)), np.zeros((n_steps, 4)))
     out = work[0][:n_steps]
-    h = 0.5 * dt
-    if dynamics == "full":
-        bath.steps(n_steps, dt, h, dt, 1, M[0], M[1], out)  # eq. hmfmdfull
-    else:
-        bath.steps(n_steps, dt, h, dt, 0, M0, 0.0, out)  # static field M0 on x
+    if dynamics == "full":  # eq. hmfmdfull
+        bath.open_steps(n_steps, dt=dt, field=Field.SELF, fx=M[0], fy=M[1], history=out)
+    else:  # eq. hmfmdbath: the static field M0 on x
+        bath.open_steps(n_steps, dt=dt, field=Field.STATIC, fx=M0, fy=0.0, history=out)
     if len(test):
         # test particles at step j feel the magnetisation before step j (eq. hmfmdbath)
         e = work[1][:n_steps]
         e[0, 2:] = M
         e[1:, 2:] = out[:-1, :2]
-        test.steps(n_steps, dt, h, dt, 2, 0.0, 0.0, e)
+        test.open_steps(n_steps, dt=dt, field=Field.EXTERNAL, history=e)
     M = out[n_steps - 1, :2].copy()
     if dynamics == "full":
-        bath.kick(h, M[0], M[1])
+        bath.close_steps(dt=dt, fx=M[0], fy=M[1])
     else:
-        bath.kick(h, M0, 0.0)
+        bath.close_steps(dt=dt, fx=M0, fy=0.0)
     if len(test):
-        test.kick(h, M[0], M[1])
+        test.close_steps(dt=dt, fx=M[0], fy=M[1])
     return M

@@ -1,0 +1,158 @@
+"""The MD settings record (hmfdiff.dynamics.settings): one record per (case, dynamics) from the
+config's md section, its one-line errors, derived step counts, JSON, and per-run threads in the
+md rule."""
+
+import copy
+import dataclasses
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+from hmfdiff.dynamics.settings import WORKFLOW_FIELDS, MDRun, md_runs
+from hmfdiff.errors import ConfigError
+
+ROOT = Path(__file__).resolve().parents[1]
+SMOKE = yaml.safe_load((ROOT / "config" / "smoke.yaml").read_text())
+
+
+def test_md_runs_merge_defaults_with_each_case():
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["runs"]["corehalo_ch2"].update(threads=2, dt=0.05, fit_window=[5.0, 20.0])
+    runs = md_runs(cfg)
+    md = cfg["md"]
+    assert set(runs) == {(c, d) for c in md["runs"] for d in ("bath", "full")}
+    for (case, dynamics), run in runs.items():
+        expected = {k: v for k, v in md.items() if k != "runs"}
+        expected.update(md["runs"][case])
+        expected["n_test"] = expected.pop(f"n_test_{dynamics}")
+        del expected["n_test_bath" if dynamics == "full" else "n_test_full"]
+        got = run.to_dict()
+        for key, value in expected.items():
+            assert got[key] == value, (case, dynamics, key)
+        assert run.case == case and run.dynamics == dynamics
+    assert runs[("corehalo_ch2", "full")].threads == 2
+    assert runs[("thermal_u-0.1", "full")].threads == md["threads"] == 1
+
+
+@pytest.mark.parametrize(
+    "field,value,match",
+    [
+        (
+            "n_particles",
+            -5,
+            r"md run 'thermal_u-0.1': field 'n_particles' = -5 must be an integer >= 1",
+        ),
+        (
+            "dt",
+            0.0,
+            r"md run 'thermal_u-0.1': field 'dt' = 0.0 is outside the allowed range \(0.0, inf\)",
+        ),
+        (
+            "fit_window",
+            [10.0, 500.0],
+            r"field 'fit_window' = \[10.0, 500.0\] must satisfy .*max_lag",
+        ),
+        ("max_lag", 100.0, r"max_lag = 100.0 exceeds t_max = 60.0"),
+        ("sample_every", 0.25, r"'sample_every' = 0.25 must be a whole multiple of dt = 0.1"),
+        ("t_equilibrate", 0.15, r"'t_equilibrate' = 0.15 must be a whole multiple of dt = 0.1"),
+        ("n_blocks", 8, r"'n_blocks' = 8 must be an integer in \[1, number of origins = 7\]"),
+        ("n_test_bath", 0, r"field 'n_test' \(config key 'n_test_bath'\) = 0 must be .* >= 1"),
+        ("separatrix_band_fit", 0.7, r"'separatrix_band_fit' = 0.7 is outside .*\[0.0, 0.5\)"),
+        ("threads", "two", r"field 'threads' = 'two' must be an integer >= 1"),
+    ],
+)
+def test_bad_settings_give_one_line_naming_case_field_value(field, value, match):
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["runs"]["thermal_u-0.1"][field] = value
+    with pytest.raises(ConfigError, match=match) as err:
+        md_runs(cfg)
+    assert "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize(
+    "edit,match",
+    [
+        (lambda c: c["md"]["runs"].update(nowhere={}), r"names case 'nowhere'"),
+        (lambda c: c["md"]["runs"].update(twostep_ch={}), r"two-step state has no smooth f"),
+        (lambda c: c["md"].update(tmax=5.0), r"unknown field\(s\) \['tmax'\]"),
+        (lambda c: c["md"].pop("dt"), r"missing required field\(s\) \['dt'\]"),
+        (lambda c: c["md"].pop("runs"), r"field 'runs' must be a mapping"),
+    ],
+)
+def test_bad_md_section(edit, match):
+    cfg = copy.deepcopy(SMOKE)
+    edit(cfg)
+    with pytest.raises(ConfigError, match=match):
+        md_runs(cfg)
+
+
+def test_derived_step_counts():
+    run = MDRun(
+        dynamics="full",
+        n_particles=5000,
+        n_test=1000,
+        dt=0.1,
+        t_max=60.0,
+        t_equilibrate=2.0,
+        sample_every=1.0,
+        max_lag=30.0,
+        origin_every=5.0,
+        n_blocks=4,
+    )
+    assert run.steps_per_sample == 10
+    assert run.equilibration_steps == 20
+    assert run.n_samples == 60 and run.lag_samples == 30 and run.origin_samples == 5
+    assert run.n_origins == 7  # origins at samples 0, 5, ..., 30: the last lag ends at 60
+    assert run.n_steps == 20 + 600
+    assert run.n_tracked == 6000
+    assert dataclasses.replace(run, dynamics="bath").n_tracked == 1000
+
+
+def test_json_round_trip_and_realisation_fields():
+    run = md_runs(SMOKE)[("corehalo_ch2", "bath")]
+    assert MDRun.from_json(run.to_json()) == run
+    # the md rule's params: what changes the numbers of a realisation, nothing else
+    real = MDRun.from_json(run.realisation_json())
+    for f in dataclasses.fields(MDRun):
+        if f.name in WORKFLOW_FIELDS:
+            assert getattr(real, f.name) == f.default
+        else:
+            assert getattr(real, f.name) == getattr(run, f.name)
+    other_fit = dataclasses.replace(run, fit_window=(5.0, 20.0), seeds=7, threads=2)
+    assert other_fit.realisation_json() == run.realisation_json()
+    assert dataclasses.replace(run, dt=0.05).realisation_json() != run.realisation_json()
+
+
+def test_md_rule_takes_the_threads_of_its_run(tmp_path):
+    """A per-case `threads` reaches the md rule's `threads:` (seen in a dry run's job list)."""
+    for item in ("Snakefile", "config", "workflow", "src"):
+        src = ROOT / item
+        if src.is_dir():
+            shutil.copytree(src, tmp_path / item, ignore=shutil.ignore_patterns("__pycache__"))
+        else:
+            shutil.copy2(src, tmp_path / item)
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["runs"]["corehalo_ch2"]["threads"] = 2
+    (tmp_path / "threads.yaml").write_text(yaml.safe_dump(cfg))
+    targets = [f"results/md/{c}/full/seed0.nc" for c in ("corehalo_ch2", "thermal_u-0.1")]
+    r = subprocess.run(
+        [sys.executable, "-m", "snakemake", "-n", "--cores", "4"]
+        + ["--configfile=threads.yaml", "--", *targets],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert r.returncode == 0, r.stderr[-3000:]
+    jobs = re.findall(r"rule md:\n(.*?)(?:\n\n|\n\[|\nJob stats)", r.stdout + r.stderr, re.S)
+    threads = {}
+    for job in jobs:
+        case = re.search(r"case=([^,\s]+)", job).group(1)
+        m = re.search(r"threads: (\d+)", job)
+        threads[case] = int(m.group(1)) if m else 1
+    assert threads == {"corehalo_ch2": 2, "thermal_u-0.1": 1}
