@@ -1,0 +1,83 @@
+"""Tests of the bath fluctuation spectrum and the finite-time diffusion (hmfdiff.kinetic.spectrum).
+
+Independent routes: the spectrum's sum rule against the closed-form thermal averages of
+cos^2 and sin^2 (Bessel functions) and a phase-space quadrature of c_0^2; D through the
+tabulated spectrum against D through the resonance roots (diffusion.resonance_table), bare and
+dressed; the finite-time fit against its long-time limit."""
+
+import numpy as np
+import pytest
+from scipy import special
+
+from hmfdiff.kinetic import diffusion, spectrum
+from hmfdiff.kinetic.dielectric import DielectricTensor
+from hmfdiff.meanfield.equilibrium import ThermalState
+from hmfdiff.meanfield.fourier import cos_coefficient
+
+KAPPA = np.array([0.2, 0.5, 0.8, 0.95, 1.05, 1.3, 2.0])
+
+
+@pytest.fixture(scope="module")
+def thermal():
+    return ThermalState(u=-0.1)
+
+
+def test_sum_rule_of_the_bath_spectrum(thermal):
+    """int domega/(2 pi) N S_x = <cos^2 theta> - <c_0^2> and int N S_y = <sin^2 theta>: for a
+    thermal state <cos^2> = (1 + I_2/I_0)/2 and <sin^2> = (1 - I_2/I_0)/2 at beta M0."""
+    st = thermal
+    bm = st.beta * st.M0
+    q = st.quadrature()
+    c0sq = q.integrate(st.f(q.kappa) * cos_coefficient(0, q.kappa) ** 2)
+    ratio = special.iv(2, bm) / special.iv(0, bm)
+    tab = spectrum.SpectrumTable(st, n_max=12, d_omega=1e-3)
+    ix = 2.0 * np.trapezoid(tab.S["cc"], tab.omega) / (2.0 * np.pi)
+    iy = 2.0 * np.trapezoid(tab.S["ss"], tab.omega) / (2.0 * np.pi)
+    assert ix == pytest.approx(0.5 * (1 + ratio) - c0sq, rel=1e-4)
+    assert iy == pytest.approx(0.5 * (1 - ratio), rel=1e-4)
+
+
+def test_table_interpolates_the_direct_spectrum(thermal):
+    tab = spectrum.SpectrumTable(thermal, n_max=6)
+    w = np.array([0.05, 0.3, 0.7, 1.2, 1.69, 1.9, 3.0, 6.0])
+    for comp in ("cc", "ss"):
+        direct = spectrum.bath_spectrum(thermal, w, 6, comp)
+        np.testing.assert_allclose(tab(w, comp), direct, rtol=1e-5, atol=1e-12)
+    assert np.all(spectrum.bath_spectrum(thermal, w, 6, "cc") >= 0)
+    np.testing.assert_allclose(
+        spectrum.bath_spectrum(thermal, -w, 6, "ss"), spectrum.bath_spectrum(thermal, w, 6, "ss")
+    )
+
+
+@pytest.mark.parametrize("collective", [False, True])
+def test_diffusion_through_the_spectrum_equals_the_resonance_sum(thermal, collective):
+    eps = DielectricTensor(thermal, l_max=6) if collective else None
+    tab = spectrum.SpectrumTable(thermal, n_max=6, eps=eps)
+    d_spec = spectrum.diffusion_from_spectrum(tab, KAPPA, thermal.M0)
+    d_res = diffusion.diffusion_coefficients(
+        thermal, KAPPA, n_max=6, l_max=6, collective=collective, eps=eps
+    )["D"]
+    np.testing.assert_allclose(d_spec, d_res, rtol=5e-4)
+
+
+def test_finite_time_fit_tends_to_the_asymptotic_D(thermal):
+    """The windowed fit is biased at early windows where S varies on the scale 1/t (deep in
+    the libration band, next to the band edge 2 Omega_0) and converges as the window moves
+    late."""
+    tab = spectrum.SpectrumTable(thermal, n_max=6)
+    d_inf = spectrum.diffusion_from_spectrum(tab, KAPPA, thermal.M0)
+    errs = []
+    for lags in (np.arange(100.0, 501.0, 2.0), np.arange(1000.0, 5001.0, 10.0)):
+        d_win = spectrum.windowed_diffusion(tab, KAPPA, thermal.M0, lags)
+        errs.append(np.max(np.abs(d_win / d_inf - 1.0)))
+    assert errs[1] < 2e-3
+    assert errs[1] < errs[0] / 10
+
+
+def test_slope_kernel_fits_a_straight_line_exactly():
+    """The kernel at x -> 0 is t^2, whose least-squares slope over [t1, t2] is t1 + t2."""
+    lags = np.arange(100.0, 501.0, 2.0)
+    assert spectrum.slope_kernel(lags, np.array([0.0]))[0] == pytest.approx(600.0, rel=1e-12)
+    x = np.array([1e-7, 3e-3])
+    direct = [np.polyfit(lags, 2 * (1 - np.cos(xi * lags)) / xi**2, 1)[0] for xi in x]
+    np.testing.assert_allclose(spectrum.slope_kernel(lags, x), direct, rtol=1e-8)
