@@ -2,34 +2,48 @@
 
 Contract (how to add a figure, e.g. figure 11):
 
-1. Write the drawing function, `fig11_relaxation(inputs, pdf, png)`, in a module of its own
-   group.  `inputs` maps each input *kind* to a list of xarray datasets, in the order the
-   figure's config entry names the cases: `{"relaxation": [ds0, ds1, ...]}`.  It draws with
-   `style.plt`, labels panels with `style.tag_panels` (reading order), writes numbers with
-   `style.sci` (5\\times10^{3}, never 5e+03), labels every axis with its unit (`style.HMF`),
-   and saves with `style.save_figure(fig, pdf, png, inputs, title)` (atomic, provenance).
-   It takes nothing else: every number it needs is in its datasets.
-2. Add one `Figure(...)` entry to `FIGURES` below: the file stem `name` (figNN_what, the
-   config key and the output results/figures/{name}.pdf/.png), the short target (`fig11`),
-   the function, one `Inputs` per kind, a caption (what it shows, which equations) and a
-   report category.
-3. Give it an entry under `figures:` in the config (and the schema), naming its cases.
+1. Write the drawing function `fig11_relaxation(inputs, pdf, png)` in the module of its group
+   (a new module for a new group).  `inputs` maps each input *kind* to a list of xarray
+   datasets in the order the figure's config entry names them, e.g.
+   `{"relaxation": [ds0, ds1, ...]}` (never keys sorted as strings).  It takes nothing else:
+   every number it needs is in its datasets.  It draws with `style.plt`, titles panels with
+   `style.tag_panels` ((a), (b), ... in reading order), writes numbers with `style.sci`
+   (5\\times10^{3}, never 5e+03), gives every axis its unit (`style.HMF` for dimensional
+   quantities) and saves with `style.save_figure(fig, pdf, png, inputs, title)` (atomic
+   writes, provenance in the metadata).
+2. Add one `Figure(...)` to `_FIGURE_LIST` below, for example::
 
-`Inputs(kind, pattern, keys)` says where the datasets of one kind come from: `pattern` is a
-path under the results directory with a `{case}` field, filled with every case named by the
-figure's config entry under `keys` (each a string or a list; concatenated in the order of
-`keys`).  Any other field of the pattern, e.g. `{equation}` in
-"relaxation/{case}_{equation}.nc", is filled from the config entry's key of the same name
-(a string or a list) or else from `Inputs.defaults`; files are listed case by case, the other
-fields varying fastest.  Nothing else ties a figure to the workflow: the generic rule
-`figure` (workflow/rules/figures.smk) builds its inputs from `Figure.input_files`, the short
-target from `target`, the report entry from `caption` and `category`; the library files that
-rerun it come from the imports of workflow/scripts/figure.py, which imports this module.
+       Figure(
+           "fig11_relaxation",                 # file stem, config key, results/figures/{name}.*
+           "fig11",                            # short target: snakemake -j2 fig11
+           fig11_relaxation,
+           (Inputs("relaxation", "relaxation/{case}_{equation}.nc",
+                   defaults={"equation": ("landau", "lenard_balescu")}),),
+           "Fig. 11: ... (eqs. hmflb, ...).",  # caption shown in the report
+           "4. Relaxation (figures 11-15)",    # report section; the number orders the menu
+       )
+
+3. Give it an entry under `figures:` in the config (and the schema) naming its cases, e.g.
+   `fig11_relaxation: {cases: [corehalo_ch2]}`.
+
+`Inputs(kind, pattern, keys=("case", "cases"), defaults={})`: `pattern` is a path under the
+results directory with a `{case}` field, filled with every case that the figure's config
+entry names under `keys` (each a string or a list, concatenated in the order of `keys`).  Any
+other field, such as `{equation}` above, is filled from the config entry's key of the same
+name (a string or a list) or else from `defaults`; files are listed case by case, the other
+fields varying fastest.  Kinds that go together (theory and fits of the same cases) list the
+same keys, so their lists run in parallel.
+
+Nothing else ties a figure to the workflow: the generic rule `figure` (workflow/rules/
+figures.smk) builds its inputs from `Figure.input_files`, the short target from `target`,
+the report entry from `caption` and `category`; the library files that rerun it come from the
+imports of workflow/scripts/figure.py, which imports this module (hmfdiff.pipeline.deps).
 """
 
 from __future__ import annotations
 
 import itertools
+import re
 import string
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -109,6 +123,13 @@ class Figure:
         kinds = [i.kind for i in self.inputs]
         if len(set(kinds)) != len(kinds) or "lib" in kinds:
             raise ValueError(f"{self.name}: input kinds {kinds} must be distinct and not 'lib'")
+        if not re.fullmatch(r"fig[1-9]\d*", self.target):
+            raise ValueError(f"{self.name}: target {self.target!r} is not figN")
+
+    @property
+    def number(self):
+        """The figure's number, from its target: 'fig4' -> 4."""
+        return int(self.target.removeprefix("fig"))
 
     @property
     def kinds(self):
@@ -126,9 +147,9 @@ def _theory(keys=CASES):
 _ORBITS = (Inputs("orbits", "orbits/{case}.nc"),)
 _FIT_BATH = Inputs("fit_bath", "fits/{case}_bath.nc")
 _FIT_FULL = Inputs("fit_full", "fits/{case}_full.nc")
-_ORBIT_CAT = "Mean-field orbits (figures 1-3)"
-_THEORY_CAT = "Kinetic theory (figures 4-7)"
-_MD_CAT = "Molecular dynamics against theory (figures 8-10)"
+_ORBIT_CAT = "1. Mean-field orbits (figures 1-3)"
+_THEORY_CAT = "2. Kinetic theory (figures 4-7)"
+_MD_CAT = "3. Molecular dynamics against theory (figures 8-10)"
 
 _FIGURE_LIST = (
     Figure(

@@ -1,0 +1,158 @@
+"""Rerun inputs derived from imports (hmfdiff.pipeline.deps), checked against the standard
+library's bytecode-based ModuleFinder and, through `snakemake -n`, against what really reruns
+after a library file is edited."""
+
+import modulefinder
+import os
+import re
+from pathlib import Path
+
+import pytest
+from _smoke import ROOT, SMOKE, job_counts, smoke_workdir, snakemake
+
+from hmfdiff.pipeline.deps import library_files
+
+SCRIPTS = sorted((ROOT / "workflow/scripts").glob("*.py"))
+
+
+def write(root, rel, text=""):
+    path = Path(root, rel)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    return path
+
+
+def test_walk_follows_every_import_form(tmp_path):
+    """Absolute, relative (one and two levels), `from package import module`, an import inside
+    a function and a chain of imports are followed; attributes, third-party and unreached
+    modules are not; the package __init__ files on the way are included."""
+    src = tmp_path / "src"
+    write(src, "hmfdiff/__init__.py", "__version__ = '0'\n")
+    write(src, "hmfdiff/a/__init__.py")
+    write(src, "hmfdiff/a/one.py", "from . import two\nfrom .three import value\n")
+    write(src, "hmfdiff/a/two.py", "import numpy\n")
+    write(src, "hmfdiff/a/three.py", "value = 1\n\ndef f():\n    from ..b import lazy\n")
+    write(src, "hmfdiff/b/__init__.py", "from .. import __version__\n")
+    write(src, "hmfdiff/b/lazy.py", "import hmfdiff.c.deep\n")
+    write(src, "hmfdiff/c/__init__.py")
+    write(src, "hmfdiff/c/deep.py", "x = 1\n")
+    write(src, "hmfdiff/c/unused.py", "import hmfdiff.a.one\n")
+    script = write(tmp_path, "script.py", "import os\nfrom hmfdiff.a.one import two, value\n")
+    got = library_files(script, src)
+    expected = [
+        "hmfdiff/__init__.py",
+        "hmfdiff/a/__init__.py",
+        "hmfdiff/a/one.py",
+        "hmfdiff/a/three.py",
+        "hmfdiff/a/two.py",
+        "hmfdiff/b/__init__.py",
+        "hmfdiff/b/lazy.py",
+        "hmfdiff/c/__init__.py",
+        "hmfdiff/c/deep.py",
+    ]
+    assert got == [str(src / p) for p in expected]
+
+
+def test_relative_import_beyond_the_package_is_refused(tmp_path):
+    src = tmp_path / "src"
+    write(src, "hmfdiff/__init__.py")
+    write(src, "hmfdiff/bad.py", "from ... import x\n")
+    script = write(tmp_path, "script.py", "import hmfdiff.bad\n")
+    with pytest.raises(ValueError, match="beyond hmfdiff"):
+        library_files(script, src)
+
+
+def modulefinder_files(script):
+    """The hmfdiff files reached from `script` according to modulefinder (bytecode, stdlib)."""
+    finder = modulefinder.ModuleFinder(path=[str(ROOT / "src")])
+    finder.run_script(str(script))
+    return sorted(
+        os.path.relpath(m.__file__, ROOT)
+        for name, m in finder.modules.items()
+        if name.split(".")[0] == "hmfdiff"
+    )
+
+
+@pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.name)
+def test_library_files_agree_with_modulefinder(script):
+    files = [os.path.relpath(f, ROOT) for f in library_files(script, ROOT / "src")]
+    assert files == modulefinder_files(script)
+
+
+def lib(script):
+    return {os.path.relpath(f, ROOT / "src/hmfdiff") for f in library_files(script, ROOT / "src")}
+
+
+def test_hand_known_dependencies():
+    s = ROOT / "workflow/scripts"
+    assert {"meanfield/fourier.py", "meanfield/orbits.py", "pipeline/io.py"} <= lib(
+        s / "equilibrium.py"
+    )
+    assert {"kinetic/dielectric.py", "kinetic/resonances.py", "meanfield/fourier.py"} <= lib(
+        s / "theory.py"
+    )
+    assert "analysis/fits.py" not in lib(s / "theory.py")
+    assert "analysis/fits.py" in lib(s / "fit.py")
+    assert "kinetic/theory.py" not in lib(s / "fit.py")
+    figure = lib(s / "figure.py")
+    assert "analysis/figures/registry.py" in figure and "analysis/figures/style.py" in figure
+    assert not any(f.startswith("dynamics/") for f in figure)
+
+
+def rule_scripts():
+    """{rule: script path} from the rule files (`rule name:` ... `script: "../scripts/x.py"`)."""
+    found = {}
+    for smk in sorted((ROOT / "workflow/rules").glob("*.smk")):
+        text = smk.read_text()
+        for m in re.finditer(r"^rule (\w+):\n(.*?)(?=^\S|\Z)", text, re.S | re.M):
+            s = re.search(r'script:\s*\n\s*"\.\./scripts/([\w.]+)"', m.group(2))
+            if s:
+                found[m.group(1)] = ROOT / "workflow/scripts" / s.group(1)
+    return found
+
+
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory):
+    return smoke_workdir(tmp_path_factory)
+
+
+def test_editing_a_library_module_reruns_exactly_its_dependent_rules(workdir):
+    """For each src/hmfdiff file that a rule's script imports (as modulefinder sees it), append
+    a comment in the smoke copy: `snakemake -n` must plan exactly the jobs that forcing the
+    importing rules would (those jobs and everything downstream of them), then nothing once
+    the file is restored."""
+    rules = rule_scripts()
+    assert {"equilibrium", "orbits", "theory", "closed_forms", "md", "fit", "validation"} <= set(
+        rules
+    ) and "figure" in rules
+    imports = {rule: modulefinder_files(script) for rule, script in rules.items()}
+    modules = sorted({f for files in imports.values() for f in files})
+    expected_cache = {}
+    planned = {}
+    for module in modules:
+        direct = sorted(rule for rule, files in imports.items() if module in files)
+        if tuple(direct) not in expected_cache:
+            r = snakemake(["-n", "--configfile", SMOKE, "--forcerun", *direct], workdir)
+            assert r.returncode == 0, r.stderr[-3000:]
+            expected_cache[tuple(direct)] = job_counts(r.stdout + r.stderr)
+        path = workdir / module
+        original = path.read_bytes()
+        try:
+            path.write_bytes(original + b"\n# edited by test_deps\n")
+            r = snakemake(["-n", "--configfile", SMOKE], workdir)
+        finally:
+            path.write_bytes(original)
+        assert r.returncode == 0, r.stderr[-3000:]
+        planned[module] = job_counts(r.stdout + r.stderr)
+        assert planned[module] == expected_cache[tuple(direct)], (module, direct)
+    # hand-known pairs: the expected sets above are not empty or trivially equal
+    fourier = planned["src/hmfdiff/meanfield/fourier.py"]
+    assert {"equilibrium", "orbits", "theory", "closed_forms", "md", "fit", "figure"} <= set(
+        fourier
+    )
+    fits = planned["src/hmfdiff/analysis/fits.py"]
+    assert {"fit", "validation", "figure"} <= set(fits) and "theory" not in fits
+    registry = planned["src/hmfdiff/analysis/figures/registry.py"]
+    assert set(registry) == {"figure", "all"}
+    r = snakemake(["-n", "--configfile", SMOKE], workdir)
+    assert job_counts(r.stdout + r.stderr) == {}, "restoring the files must rerun nothing"
