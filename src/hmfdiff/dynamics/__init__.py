@@ -1,5 +1,6 @@
-"""Molecular dynamics of the HMF model: sampling of initial conditions, elementary kernels,
-the velocity-Verlet integrator, the <dJ^2> accumulator and the MD(bath) / MD(full) driver.
+"""Molecular dynamics of the HMF model: the settings of a run (settings), sampling of initial
+conditions, elementary kernels, the velocity-Verlet integrator, the <dJ^2> accumulator and the
+MD(bath) / MD(full) driver (md).
 """
 
 import os

@@ -41,6 +41,7 @@ __all__ = [
     "rescaled_action",
     "jbar_separatrix",
     "kappa_from_rescaled_action",
+    "kappa_grid",
 ]
 
 
@@ -347,3 +348,18 @@ def kappa_from_rescaled_action(jbar, M0, n_newton=6):
         if np.any(sel):
             k[sel] = kappa_from_action(J_target[sel], M0, fam)
     return np.where(jbar <= 0.0, 0.0, k)
+
+
+def kappa_grid(n_kappa, kappa_max, gap=1e-6):
+    """A kappa grid on both sides of the separatrix, denser towards kappa = 1 and excluding it.
+
+    Half the points lie on (0, 1 - gap], half on [1 + gap, kappa_max]; each half is uniform in
+    a variable that clusters points towards the separatrix, where J and Omega vary fastest.
+    """
+    n_lib = n_kappa // 2
+    n_rot = n_kappa - n_lib
+    s = np.linspace(0.0, 1.0, n_lib)
+    lib = (1.0 - gap) * np.sin(0.5 * np.pi * s)  # clusters near 1
+    t = np.linspace(0.0, 1.0, n_rot)
+    rot = 1.0 + gap + (kappa_max - 1.0 - gap) * t**2  # clusters near 1
+    return np.concatenate([lib, rot])

@@ -1,7 +1,7 @@
 """Every netCDF dataset the pipeline writes, laid out in one place: named dimensions, and units
 and a long name on every variable through one helper (`variable`).
 
-* equilibrium and orbits: mean-field functions tabulated on `kappa_grid`
+* equilibrium and orbits: mean-field functions tabulated on `orbits.kappa_grid`
   (results/equilibrium/, results/orbits/); `state_from_dataset` rebuilds the state of a file;
 * theory, closed forms, md, fit: the results of `kinetic.theory.theory_grid`,
   `kinetic.closed_forms.closed_forms`, `dynamics.md.run_md` and `analysis.fits` laid out
@@ -24,7 +24,6 @@ from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 
 __all__ = [
     "variable",
-    "kappa_grid",
     "equilibrium_dataset",
     "state_from_dataset",
     "orbits_dataset",
@@ -43,25 +42,10 @@ def variable(dims, data, units, long_name, **attrs):
     return xr.Variable(dims, data, {"units": units, "long_name": long_name, **attrs})
 
 
-def kappa_grid(n_kappa, kappa_max, gap=1e-6):
-    """A kappa grid on both sides of the separatrix, denser towards kappa = 1 and excluding it.
-
-    Half the points lie on (0, 1 - gap], half on [1 + gap, kappa_max]; each half is uniform in
-    a variable that clusters points towards the separatrix, where J and Omega vary fastest.
-    """
-    n_lib = n_kappa // 2
-    n_rot = n_kappa - n_lib
-    s = np.linspace(0.0, 1.0, n_lib)
-    lib = (1.0 - gap) * np.sin(0.5 * np.pi * s)  # clusters near 1
-    t = np.linspace(0.0, 1.0, n_rot)
-    rot = 1.0 + gap + (kappa_max - 1.0 - gap) * t**2  # clusters near 1
-    return np.concatenate([lib, rot])
-
-
 # ------------------------------------------------------------------------------ mean field
 def equilibrium_dataset(state, n_kappa, kappa_max):
     """results/equilibrium/{case}.nc: scalars M0, u (beta), f and df/dkappa on a kappa grid."""
-    kappa = kappa_grid(n_kappa, kappa_max)
+    kappa = orbits.kappa_grid(n_kappa, kappa_max)
     f = state.f(kappa)
     dos = 2.0 * np.pi * orbits.phase_space_weight(kappa) * orbits.dJ_dkappa(kappa, state.M0)
     k = ("kappa",)
@@ -122,7 +106,7 @@ def state_from_dataset(ds):
 def orbits_dataset(M0, n_kappa, kappa_max, n_max):
     """results/orbits/{case}.nc: J, J-bar, Omega, dJ/dkappa, dOmega/dkappa, c_n, sigma_n for
     harmonics 0 ... n_max."""
-    kappa = kappa_grid(n_kappa, kappa_max)
+    kappa = orbits.kappa_grid(n_kappa, kappa_max)
     n = np.arange(0, n_max + 1)
     k, nk = ("kappa",), ("n", "kappa")
     data = {
@@ -369,25 +353,13 @@ def md_dataset(result):
 def fit_dataset(fit):
     """results/fits/{case}_{dynamics}.nc from `analysis.fits.diffusion_fit`: N*D_MD per J-bar_0
     bin with its standard error and flag, the per-seed values and the pooled <dJ^2>(lag)."""
-    b = ("bin",)
-    flags = fit["flags"]
+    b, nd, flags = ("bin",), "action^2/time", fit["flags"]
     data = {
-        "ND_md": variable(
-            b,
-            fit["ND_md"],
-            "action^2/time",
-            "N D_MD = N slope/2 of <dJ^2>(dt) (eq. hmfmddif), J units",
-        ),
+        "ND_md": variable(b, fit["ND_md"], nd, "N D_MD = N slope/2 of <dJ^2>(dt) (eq. hmfmddif)"),
         "ND_md_err": variable(
-            b,
-            fit["ND_md_err"],
-            "action^2/time",
-            "standard error of ND_md",
-            method=fit["attrs"]["error_method"],
+            b, fit["ND_md_err"], nd, "standard error of ND_md", method=fit["attrs"]["error_method"]
         ),
-        "ND_md_seed": variable(
-            ("seed", "bin"), fit["ND_md_seed"], "action^2/time", "N D_MD of each seed"
-        ),
+        "ND_md_seed": variable(("seed", "bin"), fit["ND_md_seed"], nd, "N D_MD of each seed"),
         "intercept": variable(b, fit["intercept"], "action^2", "intercept of the linear fit"),
         "msd": variable(
             ("bin", "lag"),
