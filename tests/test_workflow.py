@@ -146,20 +146,7 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
     assert counts == {"figure": len(figures), "all": 1}, counts
 
 
-def test_slurm_profile_dry_run(workdir):
-    """The cluster profile is valid: a dry run through the SLURM executor plugin plans every job."""
-    r = snakemake(
-        [
-            "-n",
-            "--workflow-profile",
-            "workflow/profiles/slurm",
-            "--configfile",
-            "config/smoke.yaml",
-        ],
-        workdir,
-        timeout=300,
-    )
-    assert r.returncode == 0, r.stderr[-3000:]
+# The SLURM profile's dry run and real runs: tests/test_slurm.py
 
 
 def test_one_figure_by_name(workdir):
