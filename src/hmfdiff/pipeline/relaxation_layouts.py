@@ -1,4 +1,8 @@
-"""Layout of results/relaxation_md/{case}/N{N}.nc: an ensemble of N-body relaxations."""
+"""Layouts of the relaxation wing, with the variable helper of `layouts`:
+results/relaxation_md/{case}/N{N}.nc, an ensemble of N-body relaxations.
+
+Kept beside `layouts` (not in it) because they draw on `analysis.relaxation_md` for the
+histogram entropy, and `layouts` imports only the mean-field physics."""
 
 from __future__ import annotations
 
@@ -6,12 +10,9 @@ import numpy as np
 import xarray as xr
 
 from ..analysis.relaxation_md import density_from_histogram, entropy_from_histogram
+from .layouts import variable as _var
 
 __all__ = ["relaxation_md_dataset"]
-
-
-def _var(dims, data, units, long_name):
-    return xr.Variable(dims, data, {"units": units, "long_name": long_name})
 
 
 def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
