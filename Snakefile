@@ -6,9 +6,11 @@
 #
 # Every intermediate is a netCDF file under results/; see README.md.
 
-from snakemake.utils import min_version, validate
+import sys
 
-from hmfdiff.pipeline.config import check_config
+from snakemake.utils import min_version
+
+from hmfdiff.pipeline.config import ConfigError, check_config_files, prepare_config
 
 min_version("9.0")
 
@@ -16,16 +18,28 @@ min_version("9.0")
 report: "workflow/report/workflow.rst"
 
 
-# The paper's configuration unless another one is given with --configfile (Snakemake would
-# otherwise merge the two, and a smoke run would inherit every paper case).
+# The configuration, checked once before any job; a bad one stops here with one line naming
+# the case or section, the field, the value and what is allowed, and nothing is written.
+# The paper's configuration is read unless --configfile gives the cases (Snakemake would
+# otherwise merge the two, and a smoke run would inherit every paper case).  Overrides:
+#   snakemake --config md='{dt: 0.05}'   (nested keys merge; numbers as strings are read)
+CONFIG_FILES = [str(f) for f in workflow.overwrite_configfiles]
+if "cases" not in config:
+    CONFIG_FILES.insert(0, "config/config.yaml")
+try:
+    check_config_files(CONFIG_FILES)  # malformed YAML, a key given twice: named by file
+except ConfigError as e:
+    sys.exit(f"Config error: {e}")
+
 if "cases" not in config:
 
     configfile: "config/config.yaml"
 
 
-# Physics-level checks with messages naming case and field, then the JSON schema.
-check_config(config)
-validate(config, "workflow/schemas/config.schema.yaml")
+try:
+    prepare_config(config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml")
+except ConfigError as e:
+    sys.exit(f"Config error: {e}")
 
 CASES = list(config["cases"])
 

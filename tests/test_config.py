@@ -1,12 +1,16 @@
 """Bad configuration values stop the run at once, with a message naming case and field."""
 
 import copy
+import math
+import re
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
+from scipy import special
 
 from hmfdiff.pipeline.config import ConfigError, check_config
 
@@ -144,3 +148,251 @@ def test_malformed_yaml_is_reported(tmp_path):
     assert r.returncode != 0
     assert "not valid JSON or YAML" in r.stderr + r.stdout
     assert "Job stats" not in r.stdout + r.stderr
+
+
+# ---- the schema: one place for types, ranges and defaults --------------------------------
+def _schema():
+    return yaml.safe_load(SCHEMA.read_text())
+
+
+SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
+
+
+def test_schema_is_valid_json_schema():
+    import jsonschema
+
+    jsonschema.Draft202012Validator.check_schema(_schema())
+
+
+def _without(cfg, *paths):
+    for path in paths:
+        d = cfg
+        for k in path[:-1]:
+            d = d[k]
+        del d[path[-1]]
+    return cfg
+
+
+def test_schema_defaults_fill_in_what_is_left_out_and_equal_the_library_defaults():
+    """Defaults come from the schema; each equals the default of the code that uses it, so a
+    config that leaves a field out computes what the library would."""
+    import inspect
+
+    from hmfdiff.dynamics.settings import MDRun
+    from hmfdiff.kinetic.closed_forms import closed_forms
+    from hmfdiff.kinetic.theory import theory_grid
+
+    cfg = copy.deepcopy(SMOKE)
+    del cfg["closed_forms"]
+    _without(cfg, ("grids", "orbits", "n_harmonics"), ("theory", "n_max"), ("theory", "l_max"))
+    _without(cfg, ("theory", "separatrix_band"))
+    md_defaults = {
+        k: v
+        for k, v in MDRun.defaults().items()
+        if k in cfg["md"] and k not in ("fit_window", "n_blocks")
+    }  # the smoke run has 7 time origins, fewer than the default 10 blocks
+    for k in md_defaults:
+        del cfg["md"][k]
+    got = check_config(cfg)
+
+    def kw(fun):
+        return {
+            k: p.default
+            for k, p in inspect.signature(fun).parameters.items()
+            if p.default is not inspect.Parameter.empty
+        }
+
+    cf = dict(got["closed_forms"])
+    cf["n_max"] = cf.pop("n_max_librating")
+    assert cf == {k: v for k, v in kw(closed_forms).items() if k in cf}
+    assert set(cf) == {"n_kappa", "kappa_min", "separatrix_band", "l_max", "n_max"}
+    th = kw(theory_grid)
+    assert {k: got["theory"][k] for k in ("n_max", "l_max", "separatrix_band")} == {
+        k: th[k] for k in ("n_max", "l_max", "separatrix_band")
+    }
+    assert got["grids"]["orbits"]["n_harmonics"] == 6  # the paper's |n| <= 6
+    assert md_defaults and {k: got["md"][k] for k in md_defaults} == md_defaults
+    # every schema default of the md section is MDRun's
+    md_schema = _schema()["properties"]["md"]["properties"]
+    schema_md = {k: v["default"] for k, v in md_schema.items() if "default" in v}
+    assert schema_md == {k: MDRun.defaults()[k] for k in schema_md}
+
+
+def test_run_overrides_inherit_the_md_section_not_the_schema_defaults():
+    """The schema's md defaults fill the md section only: a run inherits the section's value."""
+    from hmfdiff.dynamics.settings import md_runs
+
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["t_equilibrate"] = 2.0
+    cfg["md"]["n_blocks"] = 3
+    got = check_config(cfg)
+    assert "t_equilibrate" not in got["md"]["runs"]["thermal_u-0.1"]
+    run = md_runs(got)[("thermal_u-0.1", "bath")]
+    assert (run.t_equilibrate, run.n_blocks) == (2.0, 3)
+
+
+def test_schema_bounds_agree_with_the_physics_and_the_md_record():
+    """The schema's ranges are those of the code: u on the magnetised thermal branch, and each
+    MD field's lower bound that of MDRun's validation."""
+    from hmfdiff.dynamics import settings
+    from hmfdiff.meanfield.equilibrium import U_CRITICAL, U_MINIMUM
+
+    s = _schema()
+    u = s["$defs"]["thermal"]["properties"]["u"]
+    assert (u["exclusiveMinimum"], u["exclusiveMaximum"]) == (U_MINIMUM, U_CRITICAL)
+    props = s["$defs"]["md_settings"]["properties"]
+    props = {**props, **s["$defs"]["md_run"]["properties"]}
+    for name, lo in settings._INTEGERS:
+        key = {"n_test": "n_test_full"}.get(name, name)  # n_test_bath >= 1 is checked below
+        assert props[key]["type"] == "integer" and props[key]["minimum"] == lo, name
+    assert props["n_test_bath"]["minimum"] == 1
+    for name, lo, closed, hi in settings._REALS:
+        p = props[name]
+        assert p.get("minimum" if closed else "exclusiveMinimum") == lo, name
+        assert p.get("exclusiveMaximum", math.inf) == hi, name
+
+
+# ---- numbers, unknown keys, duplicate keys ------------------------------------------------
+def test_numbers_written_as_strings_are_numbers():
+    """YAML 1.1 reads 1e-1 as a string, and --config reads every nested value as one."""
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["dt"] = "1e-1"
+    cfg["md"]["fit_window"] = ["10", "3e1"]
+    cfg["md"]["runs"]["thermal_u-0.1"]["n_particles"] = "5e3"
+    cfg["theory"]["n_max"] = 3.0
+    got = check_config(cfg)
+    assert got["md"]["dt"] == 0.1 and isinstance(got["md"]["dt"], float)
+    assert got["md"]["fit_window"] == [10.0, 30.0]
+    n = got["md"]["runs"]["thermal_u-0.1"]["n_particles"]
+    assert n == 5000 and isinstance(n, int)
+    assert got["theory"]["n_max"] == 3 and isinstance(got["theory"]["n_max"], int)
+    cfg["md"]["seeds"] = "2.5"
+    with pytest.raises(ConfigError, match=r"^md: field 'seeds' = 2.5 must be an integer >= 1"):
+        check_config(cfg)
+
+
+@pytest.mark.parametrize(
+    "path,key,match",
+    [
+        (("md",), "n_seed", r"^md: unknown field 'n_seed' \(did you mean 'seeds'\?\); allowed: "),
+        (("cases", "thermal_M0.9"), "m0", r"^case 'thermal_M0.9': unknown field 'm0' \(did you "),
+        (("md", "runs", "thermal_u-0.1"), "n_particle", r"^md run 'thermal_u-0.1': unknown .*"),
+        (("theory",), "n_harmonics", r"^theory: .*'n_harmonics', a field of grids.orbits\?"),
+        ((), "thoery", r"^config: unknown field 'thoery' \(did you mean 'theory'\?\)"),
+    ],
+)
+def test_unknown_field_is_refused_with_the_nearest_name(path, key, match):
+    cfg = copy.deepcopy(SMOKE)
+    d = cfg
+    for k in path:
+        d = d[k]
+    d[key] = 1
+    with pytest.raises(ConfigError, match=match):
+        check_config(cfg)
+
+
+def test_loader_refuses_duplicate_keys_naming_file_and_lines(tmp_path):
+    from hmfdiff.pipeline.schema import load_yaml_file
+
+    f = tmp_path / "twice.yaml"
+    f.write_text("md:\n  dt: 0.1\n  runs:\n    a: {n_particles: 5}\n  dt: 0.2\n")
+    with pytest.raises(ConfigError, match=rf"^{re.escape(str(f))}, line 5: key 'dt' is given "):
+        load_yaml_file(f)
+    f.write_text("cases:\n  a: {kind: thermal, M0: 0.5, M0: 0.6}\n")
+    with pytest.raises(ConfigError, match=r"line 2: key 'M0' is given twice \(first at line 2\)"):
+        load_yaml_file(f)
+    f.write_text("cases:\n  a: {kind: thermal, M0: 0.5}\n  b: {kind: thermal, M0: 0.5}\n")
+    assert set(load_yaml_file(f)["cases"]) == {"a", "b"}
+
+
+# ---- physics across fields ---------------------------------------------------------------
+def _period_by_quadrature(kappa, M0):
+    """Rotation period T = 2 int_0^pi dtheta / p(theta), p = sqrt(2 (h + M0 cos theta)),
+    h = M0 (2 kappa^2 - 1): no elliptic function involved."""
+    from scipy.integrate import quad
+
+    h = M0 * (2.0 * kappa**2 - 1.0)
+    return 2.0 * quad(lambda t: 1.0 / np.sqrt(2.0 * (h + M0 * np.cos(t))), 0.0, np.pi)[0]
+
+
+def test_time_step_bounded_by_the_fastest_orbital_period():
+    from hmfdiff.meanfield.equilibrium import ThermalState
+    from hmfdiff.pipeline.config import fastest_orbital_period
+
+    st = ThermalState(u=-0.1)
+    T, kappa = fastest_orbital_period(st, 2.0)
+    assert kappa == 2.0  # the test particles reach further than 1e-6 of the thermal particles
+    assert T == pytest.approx(_period_by_quadrature(2.0, st.M0), rel=1e-9)
+    # the thermal tail: the orbit above which 1e-6 of the particles lie (quadrature of f)
+    T0, k0 = fastest_orbital_period(st, 0.5)
+    assert T0 == pytest.approx(_period_by_quadrature(k0, st.M0), rel=1e-9)
+    from scipy.integrate import quad
+
+    def above(k):
+        """Fraction of the particles with h > h(k): the p-integral of exp(-beta p^2/2) over
+        p^2 > 2 (h + M0 cos theta) is sqrt(2 pi/beta) erfc(p_min sqrt(beta/2))."""
+        h = st.M0 * (2.0 * k**2 - 1.0)
+
+        def weight(t):
+            return np.exp(st.beta * st.M0 * np.cos(t))
+
+        def tail(t):
+            p_min = np.sqrt(2.0 * max(h + st.M0 * np.cos(t), 0.0))
+            return weight(t) * special.erfc(p_min * np.sqrt(st.beta / 2.0))
+
+        return quad(tail, -np.pi, np.pi)[0] / quad(weight, -np.pi, np.pi)[0]
+
+    assert above(k0) == pytest.approx(1e-6, rel=0.03)
+    # dt = 0.2 divides sample_every = 1 but exceeds T/10 = 0.1975: refused, range stated
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["dt"] = 0.2
+    dt_max = _period_by_quadrature(2.0, st.M0) / 10
+    with pytest.raises(ConfigError, match=rf"field 'dt' = 0.2 .*\(0, {dt_max:.4g}\]"):
+        check_config(cfg)
+
+
+def test_n_particles_at_least_the_mean_field_minimum():
+    from hmfdiff.meanfield.equilibrium import ThermalState
+
+    n_min = math.ceil(100.0 / ThermalState(u=-0.1).M0 ** 2)  # 1/sqrt(N) <= M0/10
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["runs"]["thermal_u-0.1"]["n_particles"] = n_min
+    check_config(cfg)
+    cfg["md"]["runs"]["thermal_u-0.1"]["n_particles"] = n_min - 1
+    with pytest.raises(ConfigError, match=rf"'n_particles' = {n_min - 1} must be >= {n_min}"):
+        check_config(cfg)
+
+
+def test_memory_refused_before_allocation(monkeypatch):
+    """A run whose memory estimate (MDRun.memory_mb) exceeds the machine's is refused while
+    checking, before anything is allocated."""
+    from hmfdiff.dynamics.settings import md_runs
+    from hmfdiff.pipeline import config as config_module
+
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["runs"]["thermal_u-0.1"]["n_particles"] = 3_000_000
+    runs = md_runs(check_config(cfg))
+    need = max(r.memory_mb() for r in runs.values()) * 1e6
+    assert need > 1e6 * (1000 + 48 * 3e6 / 1e6)  # libraries + 48 B per particle at least
+    monkeypatch.setattr(config_module, "machine_memory_bytes", lambda: int(need) - 1)
+    with pytest.raises(ConfigError, match=r"md run 'thermal_u-0.1' \(full\): field 'n_particles'"):
+        check_config(cfg)
+    monkeypatch.setattr(config_module, "machine_memory_bytes", lambda: int(need))
+    check_config(cfg)
+
+
+@pytest.mark.parametrize(
+    "edit,match",
+    [
+        (
+            {"mu1": 0.3},
+            r"^case 'corehalo_ch2': field 'mu1' = 0.3 must be below mu2 = 0.19",
+        ),
+        ({"mu1": 0.19}, r"field 'mu1' = 0.19 must be below mu2 = 0.19"),
+    ],
+)
+def test_core_below_halo(edit, match):
+    cfg = copy.deepcopy(SMOKE)
+    cfg["cases"]["corehalo_ch2"].update(edit)
+    with pytest.raises(ConfigError, match=match):
+        check_config(cfg)

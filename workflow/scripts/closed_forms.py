@@ -10,8 +10,10 @@ from hmfdiff.pipeline.runtime import get_logger
 sm = snakemake  # noqa: F821
 log = get_logger("closed_forms", sm.log[0])
 grid = json.loads(sm.params.grid)
+args = dict(grid)
+args["n_max"] = args.pop("n_max_librating")  # sums over |n|, |n'| <= n_max_librating
 state = state_from_dataset(read_dataset(sm.input.equilibrium, required=["M0"]))
-ds = closed_forms_dataset(closed_forms(state, **grid))
+ds = closed_forms_dataset(closed_forms(state, **args))
 write_dataset(ds, sm.output[0], {"closed_forms": grid, "M0": state.M0}, case=sm.wildcards.case)
 log.info(
     "case %s (M0 = %.6f): %s -> %s",

@@ -11,7 +11,7 @@ log = get_logger("orbits", sm.log[0])
 grid = json.loads(sm.params.grid)
 eq = read_dataset(sm.input.equilibrium, required=["M0"])
 M0 = float(eq["M0"])
-ds = orbits_dataset(M0, grid["n_kappa"], grid["kappa_max"], grid.get("n_max", 6))
+ds = orbits_dataset(M0, grid["n_kappa"], grid["kappa_max"], grid["n_harmonics"])
 ds.attrs["equilibrium_kind"] = eq.attrs.get("kind", "")
 write_dataset(ds, sm.output[0], {"grid": grid, "M0": M0}, case=sm.wildcards.case)
 log.info(

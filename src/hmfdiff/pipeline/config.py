@@ -1,233 +1,245 @@
-"""Physics-level checks of a pipeline configuration, with messages that name case and field.
+"""The pipeline configuration, checked once before any job: files, schema, then physics.
 
-The JSON schema (workflow/schemas/config.schema.yaml) checks structure and types; this module
-checks what a schema cannot say well: that a thermal state is given by exactly one of M0 and u,
-that u lies below the magnetised branch, that figures name existing cases, and so on.  All checks
-run when the workflow is parsed, before any job starts.
+`check_config_files(files)` then `prepare_config(config, schema)` run the whole chain, in place;
+each failure is a one-line ConfigError naming the case or section, the field, the value and what
+is allowed:
+
+1. the config files themselves (`schema.load_yaml_file`): malformed YAML and duplicate keys
+   (two cases with the same name) are refused, naming the file and line;
+2. the JSON schema (workflow/schemas/config.schema.yaml, via `schema.apply_schema`): numbers
+   written as strings coerced, types, ranges, required and unknown fields, thermal M0 xor u;
+   then the schema's defaults are filled in;
+3. the physics across fields, in this module (`check_physics`): case names that collide on a
+   case-insensitive file system, mu1 < mu2 of a core-halo state, a self-consistent M0 for
+   every state, MD only for states with a smooth f, the MD time step against the fastest
+   orbital period of the state, N against the noise of the magnetisation, every MD run's
+   settings (`hmfdiff.dynamics.settings.md_runs`: whole multiples of dt, ...), its memory
+   estimate against this machine's, figures naming existing cases of the right kind.
+
+`python -m hmfdiff.pipeline.config FILE...` checks config files outside Snakemake.
 """
 
 from __future__ import annotations
 
+import copy
 import math
-import re
+import os
+import sys
+from pathlib import Path
 
+import numpy as np
+
+from ..dynamics.settings import md_runs
 from ..errors import ConfigError
-from ..meanfield.equilibrium import U_CRITICAL, U_MINIMUM
+from .schema import apply_schema, load_schema, load_yaml_file
 
-__all__ = ["ConfigError", "check_config", "CASE_NAME"]
+__all__ = [
+    "ConfigError",
+    "SCHEMA_FILE",
+    "check_config_files",
+    "prepare_config",
+    "check_config",
+    "check_physics",
+    "machine_memory_bytes",
+    "fastest_orbital_period",
+]
 
-CASE_NAME = re.compile(r"^[A-Za-z0-9_.+-]+$")
-
-
-def _number(where, field, value):
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise ConfigError(f"{where}: field '{field}' = {value!r} must be a finite number")
-    return float(value)
-
-
-def _in_range(where, field, value, lo, hi, lo_open=True, hi_open=True, why=""):
-    v = _number(where, field, value)
-    bad_lo = v <= lo if lo_open else v < lo
-    bad_hi = v >= hi if hi_open else v > hi
-    if bad_lo or bad_hi:
-        lb = "(" if lo_open else "["
-        rb = ")" if hi_open else "]"
-        raise ConfigError(
-            f"{where}: field '{field}' = {value!r} is outside the allowed range {lb}{lo}, {hi}{rb}"
-            + (f" ({why})" if why else "")
-        )
-    return v
+SCHEMA_FILE = Path(__file__).resolve().parents[3] / "workflow" / "schemas" / "config.schema.yaml"
+#: dt may be at most this fraction of the fastest orbital period of the state.
+STEPS_PER_FASTEST_PERIOD = 10
+#: the finite-N noise of the magnetisation, 1/sqrt(N), must be at most M0 / this.
+M0_OVER_NOISE = 10.0
+#: orbits holding less than this fraction of the particles do not set the fastest period.
+TAIL_FRACTION = 1e-6
 
 
-def _require(where, spec, fields):
-    missing = [f for f in fields if f not in spec]
-    if missing:
-        raise ConfigError(f"{where}: missing required field(s) {missing}")
+def check_config_files(files):
+    """Read each config file as written, refusing malformed YAML and a key given twice in one
+    mapping (two cases of the same name), with a ConfigError naming the file and line."""
+    for f in files:
+        if not isinstance(load_yaml_file(f), dict):
+            raise ConfigError(f"{f}: the top level must be a mapping of sections")
 
 
-def check_case(name, spec):
-    """Check one equilibrium case of `cases:`."""
-    where = f"case '{name}'"
-    if not CASE_NAME.match(str(name)):
-        raise ConfigError(f"{where}: case names may contain only letters, digits and _ . + -")
-    if not isinstance(spec, dict):
-        raise ConfigError(f"{where}: must be a mapping with a 'kind' field")
-    _require(where, spec, ["kind"])
-    kind = spec["kind"]
-    if kind == "thermal":
-        has_m, has_u = "M0" in spec, "u" in spec
-        if has_m == has_u:
-            raise ConfigError(f"{where}: a thermal state takes exactly one of 'M0' or 'u'")
-        if has_m:
-            _in_range(where, "M0", spec["M0"], 0.0, 1.0, why="magnetisation of a magnetised state")
-        else:
-            _in_range(
-                where,
-                "u",
-                spec["u"],
-                U_MINIMUM,
-                U_CRITICAL,
-                why="energy per particle on the magnetised thermal branch, u_c = 1/4",
+def prepare_config(config, schema=None):
+    """Apply the schema (coercion, validation, defaults) and the physics checks to `config` in
+    place; ConfigError with one line on the first problem."""
+    apply_schema(config, load_schema(schema or SCHEMA_FILE))
+    check_physics(config)
+    return config
+
+
+def check_config(config, schema=None):
+    """Check a configuration dictionary; returns a checked copy with the defaults filled in."""
+    return prepare_config(copy.deepcopy(config), schema)
+
+
+# ---- cases ------------------------------------------------------------------------------
+def _states(config):
+    """Each case's equilibrium state (its M0 solved now, so that a state with no
+    self-consistent solution is refused before any job)."""
+    from ..meanfield.equilibrium import EquilibriumError, make_state
+
+    seen = {}
+    for name in config["cases"]:
+        other = seen.setdefault(name.lower(), name)
+        if other != name:
+            raise ConfigError(
+                f"case '{name}': its name differs from case '{other}' only by upper/lower "
+                "case; their files would collide on a case-insensitive file system"
             )
-    elif kind in ("core_halo", "two_step"):
-        fields = ["eta1", "eta2", "mu1", "mu2"] + (
-            ["beta1", "beta2"] if kind == "core_halo" else []
-        )
-        _require(where, spec, fields)
-        for f in ("eta1", "eta2"):
-            _in_range(where, f, spec[f], 0.0, math.inf, lo_open=False, why="phase-space density")
-        for f in ("mu1", "mu2"):
-            _in_range(where, f, spec[f], -1.0, math.inf, why="energy level h >= -M0 > -1")
-        if kind == "core_halo":
-            for f in ("beta1", "beta2"):
-                _in_range(where, f, spec[f], 0.0, math.inf, why="inverse temperature of a step")
-        if spec["eta1"] + spec["eta2"] <= 0:
-            raise ConfigError(f"{where}: eta1 + eta2 must be > 0")
-    else:
-        raise ConfigError(
-            f"{where}: field 'kind' = {kind!r} must be 'thermal', 'core_halo' or 'two_step'"
-        )
+    states = {}
+    for name, spec in config["cases"].items():
+        if spec["kind"] in ("core_halo", "two_step") and not spec["mu1"] < spec["mu2"]:
+            raise ConfigError(
+                f"case '{name}': field 'mu1' = {spec['mu1']!r} must be below mu2 = "
+                f"{spec['mu2']!r} (the core's energy level lies below the halo's)"
+            )
+        if spec["kind"] in ("core_halo", "two_step") and spec["eta1"] + spec["eta2"] <= 0:
+            raise ConfigError(f"case '{name}': eta1 + eta2 must be > 0 (the state is empty)")
+        try:
+            states[name] = make_state(spec)
+        except EquilibriumError as e:
+            raise ConfigError(f"case '{name}': {e}") from None
+    return states
 
 
-_MD_KEYS = (
-    "dt",
-    "t_equilibrate",
-    "t_max",
-    "sample_every",
-    "max_lag",
-    "origin_every",
-    "n_blocks",
-    "threads",
-    "kappa_max",
-    "n_bins",
-    "n_test_bath",
-    "n_test_full",
-    "seeds",
-    "fit_window",
-    "min_particles",
-    "separatrix_band_fit",
-)
+# ---- molecular dynamics -----------------------------------------------------------------
+def _md_value(config, case, key):
+    return config["md"]["runs"][case].get(key, config["md"].get(key))
 
 
-def _int_at_least(where, field, value, lo):
-    if isinstance(value, bool) or not isinstance(value, int) or value < lo:
-        raise ConfigError(f"{where}: field '{field}' = {value!r} must be an integer >= {lo}")
+def fastest_orbital_period(state, kappa_test):
+    """2 pi / the largest orbital frequency among the orbits of the state that hold more than
+    TAIL_FRACTION of its particles, and the test-particle orbits up to kappa_test.
+
+    Librating frequencies fall from Omega_0 = sqrt(M0) at kappa = 0 to 0 at the separatrix;
+    rotating ones grow with kappa, so the fastest orbit is kappa = 0 or the largest kappa."""
+    from ..meanfield import orbits
+
+    q = state.quadrature()
+    order = np.argsort(q.kappa)[::-1]
+    mass = (q.weights * state.f(q.kappa))[order]
+    tail = np.cumsum(mass) / mass.sum()
+    kappa_f = float(q.kappa[order][min(np.searchsorted(tail, TAIL_FRACTION), len(tail) - 1)])
+    kappa = max(kappa_f, float(kappa_test))
+    omega = math.sqrt(state.M0)
+    if kappa > 1.0:
+        omega = max(omega, float(orbits.frequency(kappa, state.M0)))
+    return 2.0 * math.pi / omega, kappa
 
 
-def _check_md(config):
-    """MD section: every run's settings (defaults merged with the run's own) are checked."""
-    md = config.get("md")
-    if md is None:
-        raise ConfigError("config: missing required field(s) ['md']")
-    runs = md.get("runs")
-    if not isinstance(runs, dict):
-        raise ConfigError("md: field 'runs' must be a mapping of case name -> run settings")
-    for case, run in runs.items():
+def machine_memory_bytes():
+    """Physical memory of this machine (os.sysconf), or the cgroup limit if lower."""
+    total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        if limit.isdigit():
+            total = min(total, int(limit))
+    except OSError:
+        pass
+    return total
+
+
+def _gib(x):
+    return f"{x / 2**40:.3g} TiB" if x >= 2**40 else f"{x / 2**30:.3g} GiB"
+
+
+def _check_md_physics(config, states):
+    """Per MD run: the case can be sampled, dt resolves its fastest orbit, N is large enough
+    for a mean field.  Runs before the settings record, so a wild dt is named as such."""
+    for case in config["md"]["runs"]:
         where = f"md run '{case}'"
         if case not in config["cases"]:
             raise ConfigError(f"{where}: names case '{case}', which is not in 'cases'")
         if config["cases"][case]["kind"] == "two_step":
             raise ConfigError(f"{where}: a two-step state has no smooth f to sample MD from")
-        s = {k: md[k] for k in _MD_KEYS if k in md}
-        s.update(run or {})
-        missing = [k for k in ("n_particles", *_MD_KEYS) if k not in s]
-        if missing:
-            raise ConfigError(f"{where}: missing required field(s) {missing}")
-        _int_at_least(where, "n_particles", s["n_particles"], 1)
-        for f, lo in (
-            ("n_test_bath", 1),
-            ("n_test_full", 0),
-            ("seeds", 1),
-            ("n_bins", 1),
-            ("n_blocks", 1),
-            ("threads", 1),
-            ("min_particles", 0),
-        ):
-            _int_at_least(where, f, s[f], lo)
-        for f in ("dt", "t_max", "sample_every", "max_lag", "origin_every", "kappa_max"):
-            _in_range(where, f, s[f], 0.0, math.inf)
-        _in_range(where, "t_equilibrate", s["t_equilibrate"], 0.0, math.inf, lo_open=False)
-        if s["max_lag"] > s["t_max"]:
-            raise ConfigError(f"{where}: max_lag = {s['max_lag']} exceeds t_max = {s['t_max']}")
-        w = s["fit_window"]
-        if not isinstance(w, list | tuple) or len(w) != 2:
-            raise ConfigError(f"{where}: field 'fit_window' = {w!r} must be [t_min, t_max]")
-        t0 = _in_range(where, "fit_window[0]", w[0], 0.0, math.inf, lo_open=False)
-        t1 = _number(where, "fit_window[1]", w[1])
-        if not t0 < t1 <= s["max_lag"]:
+        state = states[case]
+        dt = _md_value(config, case, "dt")
+        period, kappa = fastest_orbital_period(state, _md_value(config, case, "kappa_max"))
+        dt_max = period / STEPS_PER_FASTEST_PERIOD
+        if dt > dt_max:
             raise ConfigError(
-                f"{where}: field 'fit_window' = {list(w)} must satisfy 0 <= t_min < t_max <= "
-                f"max_lag = {s['max_lag']} (the fit needs measured lags; the run is "
-                f"t_max = {s['t_max']} long)"
+                f"{where}: field 'dt' = {dt!r} is outside the allowed range (0, {dt_max:.4g}]: "
+                f"at most 1/{STEPS_PER_FASTEST_PERIOD} of the fastest orbital period "
+                f"{period:.4g} of the state (kappa = {kappa:.3g}, M0 = {state.M0:.4g})"
             )
-        for f, base in (
-            ("sample_every", "dt"),
-            ("max_lag", "sample_every"),
-            ("origin_every", "sample_every"),
-            ("t_max", "sample_every"),
-        ):
-            ratio = s[f] / s[base]
-            if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio):
-                raise ConfigError(
-                    f"{where}: field '{f}' = {s[f]} must be a whole multiple of {base} = {s[base]}"
-                )
+        n = _md_value(config, case, "n_particles")
+        n_min = math.ceil((M0_OVER_NOISE / state.M0) ** 2)
+        if n < n_min:
+            raise ConfigError(
+                f"{where}: field 'n_particles' = {n!r} must be >= {n_min} (the finite-N "
+                f"noise 1/sqrt(N) of the magnetisation must be <= M0/{M0_OVER_NOISE:g}, "
+                f"M0 = {state.M0:.4g})"
+            )
 
 
-def check_config(config):
-    """Check a whole configuration dictionary; raise ConfigError on the first problem."""
-    if not isinstance(config, dict):
-        raise ConfigError("config: top level must be a mapping")
-    _require("config", config, ["cases", "grids", "theory", "figures"])
+def _check_md_memory(runs):
+    """Each run's memory estimate (MDRun.memory_mb: N, test particles, the ring buffer of
+    J(t0)) against this machine's, before anything is allocated."""
+    total = machine_memory_bytes()
+    for (case, dynamics), run in runs.items():
+        need = run.memory_mb() * 1e6
+        if need > total:
+            raise ConfigError(
+                f"md run '{case}' ({dynamics}): field 'n_particles' = {run.n_particles!r} "
+                f"with n_test_{dynamics} = {run.n_test!r} needs about {_gib(need)} of "
+                f"memory, more than this machine's {_gib(total)}"
+            )
+
+
+# ---- figures ----------------------------------------------------------------------------
+def _check_figures(config):
     cases = config["cases"]
-    if not isinstance(cases, dict) or not cases:
-        raise ConfigError("config: 'cases' must be a non-empty mapping of case name -> state")
-    for name, spec in cases.items():
-        check_case(name, spec)
-
-    grids = config["grids"]
-    for section in ("equilibrium", "orbits"):
-        _require("config: grids", grids, [section])
-        g = grids[section]
-        where = f"grids.{section}"
-        _require(where, g, ["n_kappa", "kappa_max"])
-        n = g["n_kappa"]
-        if isinstance(n, bool) or not isinstance(n, int) or n < 16:
-            raise ConfigError(f"{where}: field 'n_kappa' = {n!r} must be an integer >= 16")
-        _in_range(
-            where, "kappa_max", g["kappa_max"], 1.0, 1e3, why="must lie beyond the separatrix"
-        )
-    if "n_max" in grids["orbits"]:
-        n = grids["orbits"]["n_max"]
-        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 64:
-            raise ConfigError(f"grids.orbits: field 'n_max' = {n!r} must be an integer in [1, 64]")
-
-    th = config["theory"]
-    where = "theory"
-    _require(where, th, ["n_kappa", "kappa_min", "kappa_max", "separatrix_band", "n_max", "l_max"])
-    for f, lo in (("n_kappa", 8), ("n_max", 1), ("l_max", 1)):
-        v = th[f]
-        if isinstance(v, bool) or not isinstance(v, int) or v < lo:
-            raise ConfigError(f"{where}: field '{f}' = {v!r} must be an integer >= {lo}")
-    _in_range(where, "kappa_min", th["kappa_min"], 0.0, 1.0)
-    _in_range(where, "kappa_max", th["kappa_max"], 1.0, 1e3)
-    _in_range(
-        where,
-        "separatrix_band",
-        th["separatrix_band"],
-        0.0,
-        0.5,
-        why="half-width of the masked band around kappa = 1",
-    )
-
-    _check_md(config)
-
     for fig, spec in config["figures"].items():
         where = f"figure '{fig}'"
-        if not isinstance(spec, dict):
-            raise ConfigError(f"{where}: must be a mapping")
-        names = list(spec.get("cases", [spec["case"]] if "case" in spec else []))
-        names += list(spec.get("core_halo", []))
-        names += [spec[k] for k in ("two_step", "thermal") if k in spec]
-        for c in names:
-            if c not in cases:
-                raise ConfigError(f"{where}: names case '{c}', which is not in 'cases'")
+        for key, names in spec.items():
+            for c in [names] if isinstance(names, str) else names:
+                if c not in cases:
+                    raise ConfigError(f"{where}: names case '{c}', which is not in 'cases'")
+                kind = cases[c]["kind"]
+                if key in ("two_step", "thermal", "core_halo") and kind != key:
+                    raise ConfigError(
+                        f"{where}: field '{key}' names case '{c}' of kind '{kind}', not '{key}'"
+                    )
+
+
+def check_physics(config):
+    """Checks across fields of a schema-valid config with its defaults (see the docstring)."""
+    states = _states(config)
+    _check_md_physics(config, states)
+    _check_md_memory(md_runs(config))
+    _check_figures(config)
+
+
+def _merge(into, new):
+    """Recursive update, as Snakemake merges several config files and --config."""
+    for k, v in new.items():
+        if isinstance(v, dict) and isinstance(into.get(k), dict):
+            _merge(into[k], v)
+        else:
+            into[k] = v
+
+
+def main(argv=None):
+    """python -m hmfdiff.pipeline.config FILE...: check config files, merged in order, as
+    `snakemake --configfile FILE...` would see them; one line per outcome."""
+    files = sys.argv[1:] if argv is None else argv
+    if not files:
+        print("usage: python -m hmfdiff.pipeline.config CONFIG.yaml [MORE.yaml ...]")
+        return 2
+    config = {}
+    try:
+        for f in files:
+            check_config_files([f])
+            _merge(config, load_yaml_file(f))
+        prepare_config(config)
+    except ConfigError as e:
+        print(f"Config error: {e}", file=sys.stderr)
+        return 1
+    print(f"{' + '.join(map(str, files))}: valid ({len(config['cases'])} cases)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
