@@ -31,9 +31,9 @@ def decode_data_uri(uri):
     return header[5:].split(";")[0], base64.b64decode(payload, validate=True)
 
 
-def plain(text):
-    """Text without HTML tags and entities, whitespace collapsed."""
-    return " ".join(html.unescape(re.sub(r"<[^>]+>", " ", text)).split())
+def plain(html_text):
+    """The text of an HTML fragment: tags removed, entities decoded, whitespace collapsed."""
+    return " ".join(html.unescape(re.sub(r"<[^>]+>", " ", html_text)).split())
 
 
 @pytest.fixture(scope="module")
@@ -57,7 +57,7 @@ def test_every_registry_figure_is_embedded_as_an_image_with_its_caption(report):
         mime, data = decode_data_uri(entry["data_uri"])
         assert mime == "image/png" and data.startswith(PNG_MAGIC), name
         assert data == (workdir / keys[0]).read_bytes(), f"{name}: embedded image differs"
-        assert plain(FIGURES[name].caption) in plain(entry["caption"]), name
+        assert " ".join(FIGURES[name].caption.split()) in plain(entry["caption"]), name
         assert entry["labels"]["figure"] == FIGURES[name].number
 
 
