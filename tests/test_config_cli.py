@@ -319,3 +319,21 @@ def test_bad_config_in_a_real_run_writes_no_results_or_logs(workdir, tmp_path):
     new = sorted(set(files_under(workdir)) - before)
     assert all(p.startswith(".snakemake/log") for p in new), new
     assert all((workdir / p).is_dir() or (workdir / p).stat().st_size == 0 for p in new), new
+
+
+def test_config_module_checks_files_outside_snakemake(tmp_path):
+    """python -m hmfdiff.pipeline.config FILE...: the same checks, files merged in order."""
+    cmd = [sys.executable, "-m", "hmfdiff.pipeline.config"]
+    r = subprocess.run([*cmd, str(ROOT / "config" / "smoke.yaml")], capture_output=True, text=True)
+    assert r.returncode == 0 and "valid (4 cases)" in r.stdout, r.stderr
+    extra = tmp_path / "faster.yaml"
+    extra.write_text("md: {dt: 0.3}\n")  # merged onto the smoke config: 0.3 > T/10
+    r = subprocess.run(
+        [*cmd, str(ROOT / "config" / "smoke.yaml"), str(extra)], capture_output=True, text=True
+    )
+    assert r.returncode == 1 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "md run 'thermal_u-0.1': field 'dt' = 0.3 is outside the allowed range" in r.stderr
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("cases: {a: {kind: thermal, M0: 0.5}\ngrids: [\n")
+    r = subprocess.run([*cmd, str(broken)], capture_output=True, text=True)
+    assert r.returncode == 1 and f"Config error: {broken}, line 2, column" in r.stderr

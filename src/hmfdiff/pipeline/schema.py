@@ -161,6 +161,11 @@ def _num(x):
     return repr(float(x)) if isinstance(x, int | float) else repr(x)
 
 
+def _is_integer(schema):
+    t = schema.get("type")
+    return "integer" in (t if isinstance(t, list) else [t])
+
+
 def _allowed(schema):
     """'in (0.0, 1.0)', 'an integer >= 16', 'one of ...', from the keywords of one field."""
     if "enum" in schema:
@@ -168,7 +173,7 @@ def _allowed(schema):
     lo_ex, hi_ex = "exclusiveMinimum" in schema, "exclusiveMaximum" in schema
     lo = schema.get("exclusiveMinimum", schema.get("minimum"))
     hi = schema.get("exclusiveMaximum", schema.get("maximum"))
-    if schema.get("type") == "integer":
+    if _is_integer(schema):
         if lo is not None and hi is not None:
             return f"an integer >= {lo} and <= {hi}"
         return "an integer" + (f" >= {lo}" if lo is not None else "")
@@ -179,6 +184,16 @@ def _allowed(schema):
     lo = -math.inf if lo is None else lo
     hi = math.inf if hi is None else hi
     return f"{lb}{_num(lo)}, {_num(hi)}{rb}"
+
+
+def _type_phrase(t, allowed):
+    if t == "number":
+        return "a finite number" + (f" in {allowed}" if allowed else "")
+    if t == "integer":
+        return allowed or "an integer"
+    return {"object": "a mapping", "array": "a list", "string": "a string", "null": "null"}.get(
+        t, t
+    )
 
 
 def _why(schema):
@@ -248,16 +263,11 @@ def _message(err, root):
     where = where_of(parent)
     allowed = _allowed(sch)
     if v == "type":
-        wanted = sch["type"]
-        if wanted == "number":
-            extra = f" in {allowed}" if allowed else ""
-            return f"{where}: field '{field}' = {inst!r} must be a finite number{extra}{_why(sch)}"
-        if wanted == "integer":
-            return f"{where}: field '{field}' = {inst!r} must be {allowed}{_why(sch)}"
-        names = {"object": "a mapping", "array": "a list", "string": "a string"}
-        return f"{where}: field '{field}' = {inst!r} must be {names.get(wanted, wanted)}{_why(sch)}"
+        wanted = sch["type"] if isinstance(sch["type"], list) else [sch["type"]]
+        what = " or ".join(_type_phrase(t, allowed) for t in wanted)
+        return f"{where}: field '{field}' = {inst!r} must be {what}{_why(sch)}"
     if v in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
-        if sch.get("type") == "integer":
+        if _is_integer(sch):
             return f"{where}: field '{field}' = {inst!r} must be {allowed}{_why(sch)}"
         return (
             f"{where}: field '{field}' = {inst!r} is outside the allowed range {allowed}{_why(sch)}"
