@@ -51,12 +51,14 @@ wildcard_constraints:
 include: "workflow/rules/common.smk"
 include: "workflow/rules/md_helpers.smk"
 include: "workflow/rules/figure_helpers.smk"
+include: "workflow/rules/relaxation_helpers.smk"
 include: "workflow/rules/equilibrium.smk"
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/theory.smk"
 include: "workflow/rules/analytic.smk"
 include: "workflow/rules/md.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/relaxation.smk"
 
 
 rule all:
@@ -67,4 +69,5 @@ rule all:
         expand("results/theory/{case}.nc", case=theory_cases()),
         expand("results/analytic/{case}.nc", case=CASES),
         "results/validation.csv",
+        relaxation_files(),
         figure_targets(),

@@ -1,0 +1,376 @@
+"""Collisional relaxation f(J-bar, tau) by the Landau and Lenard-Balescu equations (eq. hmflb,
+paper's Conclusions), with a self-consistent magnetisation.
+
+State.  f on a fixed grid of rescaled actions J-bar (`action_grid`: cells uniform in kappa at
+the initial M0), node masses m_i = 4 pi w_i f_i.  J is an adiabatic invariant of the slow
+change of M0, so f(J-bar) is held fixed while M0 is re-solved from
+M0 = sum_i m_i <cos theta>(J-bar_i; M0) after every step (`solve_grid_M0`).  The separatrix
+J-bar_s = 4 sqrt(M0)/pi moves with M0: a node it passes changes family at fixed J-bar, i.e. a
+librating torus of action J becomes the pair of rotating tori of action J/2, each direction
+receiving half of its particles (the area-preserving separatrix crossing; f stays even in p).
+
+Energy per particle u = sum_i m_i h(J-bar_i; M0) + M0^2/2.  At fixed M0 the collision step
+conserves sum m h exactly (`collision`); the M0 update at fixed f(J-bar) changes u only at
+second order in the change of M0, because d u/d M0 = M0 - sum m <cos theta> = 0 at the
+self-consistent M0.
+
+Time stepping.  Backward Euler in ln f with the collision weights (orbits, resonances, dielectric
+factor) frozen over a step, solved by Newton to rounding: it is stable for this stiff problem,
+conserves mass, and S = -sum m ln f cannot decrease over a step (S is concave and the frozen
+operator produces entropy for any f).  The step is controlled by step doubling: the difference
+between one step and two half steps, relative to max f, is kept below `rtol`.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize, sparse
+from scipy.sparse import linalg as sparse_linalg
+
+from ..meanfield import orbits
+from ..meanfield.equilibrium import EquilibriumError, thermal_beta, thermal_M0_from_energy
+from ..meanfield.fourier import cos_coefficient
+from .collision import CollisionOperator, geometry, resonance_events
+from .dielectric import DielectricTensor
+from .tabulated import PHASE_VOLUME_PER_JBAR, TabulatedState
+
+__all__ = [
+    "EQUATIONS",
+    "ActionGrid",
+    "action_grid",
+    "solve_grid_M0",
+    "grid_energy",
+    "grid_entropy",
+    "project_state",
+    "grid_thermal_state",
+    "thermal_fit",
+    "RelaxationSettings",
+    "evolve",
+]
+
+EQUATIONS = ("landau", "lenard_balescu")
+#: ln f is kept above this (f = 0 cannot be represented in ln f)
+LOG_FLOOR = -700.0
+
+
+@dataclass(frozen=True)
+class ActionGrid:
+    """Nodes J-bar_i and cell widths w_i (cells between midpoints; phase volume 4 pi w_i)."""
+
+    jbar: np.ndarray
+    width: np.ndarray
+
+    @property
+    def volume(self):
+        return PHASE_VOLUME_PER_JBAR * self.width
+
+
+def action_grid(M0, n_nodes, kappa_max):
+    """n_nodes cell-centred nodes uniform in kappa on (0, kappa_max) at magnetisation M0."""
+    if n_nodes < 8 or not kappa_max > 1.0:
+        raise ValueError(f"action grid: n_nodes = {n_nodes} must be >= 8, kappa_max > 1")
+    kappa = (np.arange(n_nodes) + 0.5) * kappa_max / n_nodes
+    kappa = np.where(np.abs(kappa - 1.0) < 1e-9, 1.0 + 1e-9, kappa)
+    jbar = orbits.rescaled_action(kappa, M0)
+    edges = np.concatenate(([0.0], 0.5 * (jbar[1:] + jbar[:-1]), [1.5 * jbar[-1] - 0.5 * jbar[-2]]))
+    return ActionGrid(jbar, np.diff(edges))
+
+
+def _node_c0(grid, M0):
+    return cos_coefficient(0, orbits.kappa_from_rescaled_action(grid.jbar, M0))
+
+
+def solve_grid_M0(grid, f, guess):
+    """Self-consistent M0 = sum m_i <cos theta>_i / sum m_i of the grid state, nearest guess."""
+    m = grid.volume * f
+    mass = m.sum()
+
+    def g(M):
+        return float(np.dot(m, _node_c0(grid, M)) / mass - M)
+
+    for half in (1e-3, 1e-2, 0.1, 0.5):
+        lo, hi = max(guess - half, 1e-4), min(guess + half, 1.0 - 1e-9)
+        if g(lo) * g(hi) < 0:
+            return optimize.brentq(g, lo, hi, xtol=1e-15, rtol=1e-15)
+    raise EquilibriumError(f"no self-consistent M0 near {guess} for the grid state")
+
+
+def grid_energy(grid, f, M0):
+    """Energy per particle u = sum m h / sum m + M0^2/2."""
+    m = grid.volume * f
+    h = orbits.energy_from_kappa(orbits.kappa_from_rescaled_action(grid.jbar, M0), M0)
+    return float(np.dot(m, h) / m.sum() + 0.5 * M0**2)
+
+
+def grid_entropy(grid, f):
+    """S = -int f ln f dtheta dp = -sum m_i ln f_i."""
+    m = grid.volume * f
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return float(-np.sum(np.where(f > 0, m * np.log(f), 0.0)))
+
+
+def project_state(state, grid):
+    """f_i = F(h(J-bar_i; M0)) for a state F(h) (`state.f_energy`), with M0 solved
+    self-consistently on the grid's quadrature and f normalised; returns (f, M0)."""
+
+    def f_of(M):
+        h = orbits.energy_from_kappa(orbits.kappa_from_rescaled_action(grid.jbar, M), M)
+        return state.f_energy(h)
+
+    def g(M):
+        f = f_of(M)
+        m = grid.volume * f
+        return float(np.dot(m, _node_c0(grid, M)) / m.sum() - M)
+
+    M0 = None
+    for half in (1e-3, 1e-2, 0.05):
+        lo, hi = max(state.M0 - half, 1e-4), min(state.M0 + half, 1.0 - 1e-9)
+        if g(lo) * g(hi) < 0:
+            M0 = optimize.brentq(g, lo, hi, xtol=1e-15, rtol=1e-15)
+            break
+    if M0 is None:
+        raise EquilibriumError(f"no self-consistent M0 on the grid near M0 = {state.M0}")
+    f = f_of(M0)
+    f = f / np.sum(grid.volume * f)
+    if np.any(f <= 0):
+        raise EquilibriumError("the state vanishes at a grid node (ln f): lower kappa_max")
+    return f, float(M0)
+
+
+def grid_thermal_state(grid, u, M0_guess):
+    """The thermal state f = C exp(-beta h) on the grid with energy per particle u and a
+    self-consistent M0 (the end point of the evolution); returns (f, M0, beta)."""
+    x0 = thermal_M0_from_energy(u) if M0_guess is None else M0_guess
+
+    def state(M0, beta):
+        h = orbits.energy_from_kappa(orbits.kappa_from_rescaled_action(grid.jbar, M0), M0)
+        f = np.exp(-beta * (h - h.min()))
+        return f / np.sum(grid.volume * f), h
+
+    def residual(x):
+        M0, beta = x
+        f, h = state(M0, beta)
+        m = grid.volume * f
+        c0 = cos_coefficient(0, orbits.kappa_from_rescaled_action(grid.jbar, M0))
+        return [np.dot(m, c0) - M0, np.dot(m, h) + 0.5 * M0**2 - u]
+
+    sol = optimize.root(residual, [x0, thermal_beta(x0)], method="hybr", tol=1e-14)
+    M0, beta = sol.x
+    if not sol.success or np.max(np.abs(residual(sol.x))) > 1e-11:
+        raise EquilibriumError(f"no thermal state on the grid with u = {u}: {sol.message}")
+    return state(M0, beta)[0], float(M0), float(beta)
+
+
+def thermal_fit(grid, f, M0):
+    """Weighted least-squares fit ln f = a - beta h over the grid; returns (beta, distance)
+    with distance = max |f - exp(a - beta h)| / max f."""
+    h = orbits.energy_from_kappa(orbits.kappa_from_rescaled_action(grid.jbar, M0), M0)
+    w = grid.volume * f
+    A = np.stack([np.ones_like(h), -h], axis=1) * np.sqrt(w)[:, None]
+    coef, *_ = np.linalg.lstsq(A, np.log(f) * np.sqrt(w), rcond=None)
+    fit = np.exp(coef[0] - coef[1] * h)
+    return float(coef[1]), float(np.max(np.abs(f - fit)) / np.max(f))
+
+
+@dataclass
+class RelaxationSettings:
+    """Numerical settings of one evolution (every one is stored with the result)."""
+
+    equation: str = "lenard_balescu"
+    n_nodes: int = 300
+    kappa_max: float = 3.0
+    n_max: int = 6
+    l_max: int = 6
+    rtol: float = 1e-3
+    tau_max: float = 1e4
+    thermal_tol: float = 1e-4
+    dtau_first: float = 0.0  # 0: from the initial rate
+    max_steps: int = 2000
+    flux_times: tuple = (0.0,)
+    eps_panels: int = 48
+    eps_order: int = 20
+
+    def __post_init__(self):
+        if self.equation not in EQUATIONS:
+            raise ValueError(f"equation = {self.equation!r}: must be one of {EQUATIONS}")
+        if not self.rtol > 0 or not self.tau_max > 0:
+            raise ValueError("rtol and tau_max must be > 0")
+
+    def as_dict(self):
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+    @classmethod
+    def from_mapping(cls, equation, mapping):
+        """Settings from a config mapping (unknown keys refused, naming them)."""
+        unknown = sorted(set(mapping) - set(cls.__dataclass_fields__))
+        if unknown:
+            raise ValueError(f"relaxation settings: unknown key(s) {unknown}")
+        kw = dict(mapping)
+        if "flux_times" in kw:
+            kw["flux_times"] = tuple(float(t) for t in kw["flux_times"])
+        return cls(equation=equation, **kw)
+
+
+@dataclass
+class _History:
+    tau: list = field(default_factory=list)
+    f: list = field(default_factory=list)
+    M0: list = field(default_factory=list)
+    u: list = field(default_factory=list)
+    S: list = field(default_factory=list)
+    mass: list = field(default_factory=list)
+    beta_fit: list = field(default_factory=list)
+    distance: list = field(default_factory=list)
+
+
+def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
+    """Solve vol e^y - vol e^y0 = dt * rate(y) by damped Newton; returns (y, converged)."""
+    m0 = vol * np.exp(y0)
+    y = y0.copy()
+    for _ in range(max_iter):
+        f = np.exp(y)
+        scale = 1.0 / (vol * f)  # rows relative to each node's mass: well conditioned
+        r = vol * f - m0 - dt * op.rate(y)
+        Jm = sparse.eye(y.size) - dt * (sparse.diags(scale) @ op.jacobian(y))
+        try:
+            d = sparse_linalg.splu(Jm.tocsc()).solve(-scale * r)
+        except RuntimeError:  # exactly singular
+            return y, False
+        if not np.all(np.isfinite(d)):
+            return y, False
+        step = min(1.0, 2.0 / max(np.max(np.abs(d)), 1e-300))
+        y = np.maximum(y + step * d, LOG_FLOOR)
+        if step == 1.0 and np.max(np.abs(d) * f) <= tol * np.max(f):
+            return y, True
+    return y, False
+
+
+class _Operator:
+    """The collision operator of the current (f, M0), rebuilt after every accepted step."""
+
+    def __init__(self, grid, f, M0, settings):
+        s = settings
+        self.geom = geometry(grid.jbar, M0)
+        self.events = resonance_events(self.geom, s.n_max)
+        eps = None
+        if s.equation == "lenard_balescu":
+            tab = TabulatedState(grid.jbar, np.maximum(f, np.exp(LOG_FLOOR)), M0=M0)
+            tensor = DielectricTensor(tab, l_max=s.l_max, n_panels=s.eps_panels, order=s.eps_order)
+            omega = np.arange(1, s.n_max + 1)[:, None] * self.geom.nu[None, :]
+            eps = tensor(omega)
+        self.op = CollisionOperator(self.geom, self.events, eps)
+
+
+def evolve(state, settings, progress=None):
+    """Evolve `state` (any object with M0 and f_energy(h)) under the Landau or Lenard-Balescu
+    equation until thermalised (max |f - f_eq| / max f_eq < thermal_tol, f_eq the thermal
+    state of the same energy on the grid) or tau_max.
+
+    Each step uses the orbits of the predicted mid-step magnetisation
+    M0 + (dM0/dtau) dtau/2 (from the previous step), which makes the energy error of the M0
+    update third order in its change per step.  progress(dict) is called after every accepted
+    step with tau, M0, S, u, distance.
+
+    Returns a dict: per accepted step 'tau', 'f' (T, N), 'M0', 'u', 'S', 'mass', 'beta_fit',
+    'distance'; at `settings.flux_times` (and the end) 'tau_flux', 'flux' (T', N-1) (the current
+    G-bar through each face) and 'Sdot'; the grid ('jbar', 'width', 'jbar_face'); the thermal
+    end point ('f_eq', 'M0_eq', 'beta_eq', 'S_eq'); the settings, step counts and wall time.
+    """
+    s = settings
+    t0 = time.perf_counter()
+    grid = action_grid(state.M0, s.n_nodes, s.kappa_max)
+    f, M0 = project_state(state, grid)
+    y = np.log(f)
+    vol = grid.volume
+    hist = _History()
+    u0 = grid_energy(grid, f, M0)
+    f_eq, M0_eq, beta_eq = grid_thermal_state(grid, u0, None)
+    flux_times = sorted({float(t) for t in s.flux_times if 0.0 < t < s.tau_max})
+    tau_flux, flux, sdot = [], [], []
+
+    def record(tau, y, M0):
+        f = np.exp(y)
+        hist.tau.append(tau)
+        hist.f.append(f)
+        hist.M0.append(M0)
+        hist.u.append(grid_energy(grid, f, M0))
+        hist.S.append(grid_entropy(grid, f))
+        hist.mass.append(float(np.sum(vol * f)))
+        hist.beta_fit.append(thermal_fit(grid, f, M0)[0])
+        dist = float(np.max(np.abs(f - f_eq)) / np.max(f_eq))
+        hist.distance.append(dist)
+        if progress is not None:
+            progress({"tau": tau, "M0": M0, "S": hist.S[-1], "u": hist.u[-1], "distance": dist})
+        return dist
+
+    def record_flux(tau, y, M0, oper=None):
+        oper = oper or _Operator(grid, np.exp(y), M0, s)
+        tau_flux.append(tau)
+        flux.append(oper.op.face_flux(y) / PHASE_VOLUME_PER_JBAR)
+        sdot.append(oper.op.entropy_production(y))
+        return oper
+
+    tau = 0.0
+    dist = record(tau, y, M0)
+    oper = record_flux(tau, y, M0)
+    rate0 = np.max(np.abs(oper.op.rate(y)) / vol)
+    dt = s.dtau_first or (s.rtol * np.max(f) / rate0 if rate0 > 0 else s.tau_max)
+    dM0dt = 0.0
+    n_rejected = n_steps = 0
+    while tau < s.tau_max * (1 - 1e-12) and dist >= s.thermal_tol and n_steps < s.max_steps:
+        dt = min(dt, s.tau_max - tau)
+        upcoming = [t for t in flux_times if t > tau * (1 + 1e-12)]
+        if upcoming:
+            dt = min(dt, upcoming[0] - tau)
+        M0_mid = M0 + 0.5 * dM0dt * dt
+        if oper.geom.M0 != M0_mid:
+            oper = _Operator(grid, np.exp(y), M0_mid, s)
+        y1, ok1 = _backward_euler(oper.op, vol, y, dt)
+        yh, okh = _backward_euler(oper.op, vol, y, 0.5 * dt) if ok1 else (y, False)
+        y2, ok2 = _backward_euler(oper.op, vol, yh, 0.5 * dt) if okh else (y, False)
+        if not (ok1 and okh and ok2):
+            n_rejected += 1
+            dt *= 0.25
+            continue
+        fmax = np.max(np.exp(y))
+        err = np.max(np.abs(np.exp(y2) - np.exp(y1))) / (s.rtol * fmax)
+        if err > 1.0:
+            n_rejected += 1
+            dt *= max(0.2, 0.9 / np.sqrt(err))
+            continue
+        tau += dt
+        n_steps += 1
+        y = y2
+        M0_new = solve_grid_M0(grid, np.exp(y), M0)
+        dM0dt = (M0_new - M0) / dt
+        M0 = M0_new
+        dist = record(tau, y, M0)
+        if any(abs(tau - t) <= 1e-9 * max(t, 1.0) for t in flux_times):
+            oper = record_flux(tau, y, M0)
+        dt *= min(4.0, 0.9 / np.sqrt(max(err, 1e-12)))
+    if tau_flux[-1] != tau:
+        record_flux(tau, y, M0)
+    out = {k: np.asarray(v) for k, v in hist.__dict__.items()}
+    out.update(
+        tau_flux=np.asarray(tau_flux),
+        flux=np.asarray(flux),
+        Sdot=np.asarray(sdot),
+        jbar=grid.jbar,
+        width=grid.width,
+        jbar_face=0.5 * (grid.jbar[1:] + grid.jbar[:-1]),
+        settings=s.as_dict(),
+        n_steps=n_steps,
+        n_rejected=n_rejected,
+        thermalised=bool(dist < s.thermal_tol),
+        wall_time=time.perf_counter() - t0,
+        u_state=float(getattr(state, "u", np.nan)),
+        M0_state=float(state.M0),
+        f_eq=f_eq,
+        M0_eq=M0_eq,
+        beta_eq=beta_eq,
+        S_eq=grid_entropy(grid, f_eq),
+    )
+    return out

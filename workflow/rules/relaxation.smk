@@ -1,0 +1,21 @@
+rule relaxation:
+    """Collisional relaxation f(J-bar, tau) of one case by the Landau or Lenard-Balescu equation."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        lib=lib("relaxation.py"),
+    output:
+        "results/relaxation/{case}_{equation}.nc",
+    log:
+        "logs/relaxation/{case}_{equation}.log",
+    wildcard_constraints:
+        equation="landau|lenard_balescu",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=60,
+    params:
+        run=lambda w: relaxation_run(w.case),
+    script:
+        "../scripts/relaxation.py"
