@@ -19,7 +19,7 @@ from numba import njit, prange
 from . import sampling
 from .elementary import _CHUNK, _FM, _INV_TWO_PI, _TWO_PI, _sincos_wrapped, sincos_wrapped_array
 
-__all__ = ["INTEGRATOR", "Field", "Particles", "leapfrog", "advance_system"]
+__all__ = ["INTEGRATOR", "Field", "Particles", "leapfrog", "advance_system", "advance_in_field"]
 
 INTEGRATOR = "velocity Verlet (kick-drift-kick leapfrog), 2nd order, symplectic"
 
@@ -215,14 +215,15 @@ def leapfrog(particles, n_steps, dt, field=Field.SELF, *, fx=0.0, fy=0.0):
     return out[:, :2].copy()
 
 
-def advance_system(bath, test, *, dynamics, M, n_steps, dt, M0, work=None):
+def advance_system(bath, test, *, dynamics, M, n_steps, dt, M0, work=None, m_out=None):
     """Advance bath / interacting particles and test particles by n_steps velocity-Verlet steps.
 
     dynamics 'full': `bath` holds the N interacting particles (eq. hmfmdfull); 'bath': `bath`
     feels the static field M0 on x (eq. hmfmdbath).  Test particles (`test`, may be empty) feel
     the instantaneous magnetisation of `bath` without feeding back.  M is the magnetisation of
     `bath` on entry; returns it after the steps.  p is synchronised with theta on return.
-    work: two (>= n_steps, 4) scratch arrays, reused between calls.
+    work: two (>= n_steps, 4) scratch arrays, reused between calls.  m_out: an (n_steps, 2)
+    array that receives the magnetisation of `bath` after each step, or None.
     """
     if n_steps < 1:
         return M
@@ -233,6 +234,8 @@ def advance_system(bath, test, *, dynamics, M, n_steps, dt, M0, work=None):
         bath.open_steps(n_steps, dt=dt, field=Field.SELF, fx=M[0], fy=M[1], history=out)
     else:  # eq. hmfmdbath: the static field M0 on x
         bath.open_steps(n_steps, dt=dt, field=Field.STATIC, fx=M0, fy=0.0, history=out)
+    if m_out is not None:
+        m_out[:] = out[:, :2]
     if len(test):
         # test particles at step j feel the magnetisation before step j (eq. hmfmdbath)
         e = work[1][:n_steps]
@@ -247,3 +250,17 @@ def advance_system(bath, test, *, dynamics, M, n_steps, dt, M0, work=None):
     if len(test):
         test.close_steps(dt=dt, fx=M[0], fy=M[1])
     return M
+
+
+def advance_in_field(test, field, *, dt, work=None):
+    """Advance test particles by len(field) - 1 velocity-Verlet steps in a prescribed field:
+    field[j] = (Fx, Fy) at the start of step j, field[-1] at the end (p synchronised with
+    theta on return).  The tracers of MD(bath) with an exact bath (eq. hmfmdbath).
+    work: a (>= len(field) - 1, 4) scratch array, or None."""
+    n_steps = len(field) - 1
+    if n_steps < 1 or not len(test):
+        return
+    e = np.zeros((n_steps, 4)) if work is None or work.shape[0] < n_steps else work[:n_steps]
+    e[:, 2:] = field[:-1]
+    test.open_steps(n_steps, dt=dt, field=Field.EXTERNAL, history=e)
+    test.close_steps(dt=dt, fx=field[-1][0], fy=field[-1][1])

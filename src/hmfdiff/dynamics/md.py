@@ -9,16 +9,19 @@ and feeds them to the <dJ^2> accumulator (`accumulator`); every setting comes fr
 
 * 'bath' (eq. hmfmdbath): N_b bath particles in the static field theta'' = -M0 sin(theta), M0 the
   state's theoretical magnetisation; N_tp test particles driven, without feedback, by the
-  instantaneous bath magnetisation: theta'' = -Mx_b sin(theta) + My_b cos(theta).
+  instantaneous bath magnetisation: theta'' = -Mx_b sin(theta) + My_b cos(theta).  By default
+  (run.bath 'exact') the bath is not integrated: it moves on its exact orbits and its
+  magnetisation at every time step is synthesised from their Fourier series (`exact_bath`).
 * 'full' (eq. hmfmdfull): all N particles in the instantaneous magnetisation
-  theta'' = -Mx sin(theta) + My cos(theta); optional test particles driven by it without
-  feeding back.
+  theta'' = -Mx sin(theta) + My cos(theta); the actions of a random subset of n_track of them
+  (all by default) are measured; optional test particles driven by it without feeding back.
 
 Actions: J of every tracked particle, with the static M0 and, for 'full', in the frame of the
 instantaneous magnetisation (theta - arg(Mx + i My)); for 'bath' in the fixed frame.
 
 Reductions are deterministic (fixed chunks combined in order), so the same seed gives
-bit-identical output for any thread count on the same machine and build.
+bit-identical output for any thread count on the same machine and build.  The wall time of
+each part (bath synthesis, integration, actions, accumulation) is recorded in the attributes.
 """
 
 from __future__ import annotations
@@ -34,7 +37,8 @@ import numpy as np
 from . import sampling
 from .accumulator import DisplacementAccumulator
 from .elementary import actions
-from .integrator import INTEGRATOR, Particles, advance_system
+from .exact_bath import ExactBath
+from .integrator import INTEGRATOR, Particles, advance_in_field, advance_system
 from .settings import MDRun
 
 __all__ = ["MDResult", "run_md"]
@@ -50,7 +54,8 @@ class MDResult:
 
     sums: (4, bin, lag, block) sums over (origin, particle) pairs of (J(t0+lag) - J(t0))^2,
     (Jbar(t0+lag) - Jbar(t0))^2, J(t0+lag) - J(t0) and 1 (eq. dj2); series: Mx, My, energy
-    and momentum per particle at each sample; sample_*: (sample, tracer) angle in the action
+    and momentum per particle at each sample; m_fine: (time_fine, 2) Mx, My every m_every of
+    production; sample_*: (sample, tracer) angle in the action
     frame, momentum and J of `tracer` tracked particles; attrs: the run's settings
     (`MDRun.attrs`) and what the run found (seed, threads, frames, wall time ...).
     """
@@ -62,6 +67,7 @@ class MDResult:
     n_particles_in_bin: np.ndarray
     n_origins_in_block: np.ndarray
     series: dict
+    m_fine: np.ndarray
     tracer: np.ndarray
     sample_theta: np.ndarray
     sample_p: np.ndarray
@@ -91,6 +97,16 @@ def _initial_conditions(state, run, rng):
     return Particles(th_b, p_b), Particles(th_t, p_t), phase0
 
 
+def _tracked_subset(run, rng):
+    """Indices of the n_track tracked particles among the N of MD(full), drawn at random
+    (sorted); all N when n_track is None; none for MD(bath)."""
+    if run.dynamics != "full":
+        return np.zeros(0, dtype=np.int64)
+    if run.n_track is None or run.n_track == run.n_particles:
+        return np.arange(run.n_particles, dtype=np.int64)
+    return np.sort(rng.choice(run.n_particles, size=run.n_track, replace=False))
+
+
 def run_md(
     state, run, seed, threads=1, *, member=0, progress=_default_progress, progress_every=5.0
 ):
@@ -98,8 +114,11 @@ def run_md(
 
     The run integrates t_equilibrate (no measurement), then t_max of production with samples
     every sample_every (t = 0 is the start of production); origins every origin_every, lags
-    0 ... max_lag.  Tracked particles: the n_test test particles for 'bath'; the n_particles
-    particles and the n_test test particles for 'full'.
+    0 ... max_lag.  Tracked particles: the n_test test particles for 'bath'; n_track of the
+    n_particles particles (all by default) and the n_test test particles for 'full'.  With
+    run.bath 'exact', the bath of 'bath' is not integrated: its magnetisation at every step is
+    synthesised from its exact orbits (`exact_bath.ExactBath`) and only the test particles are
+    integrated, in that field.
 
     state: equilibrium state (ThermalState, CoreHaloState) with .M0 and .f; M0 is the static
     field of the bath and the magnetisation used for every action.  seed, member: the
@@ -119,29 +138,67 @@ def run_md(
     M0 = float(state.M0)
     wall0 = _time.perf_counter()
     numba.set_num_threads(int(threads))
+    clock = dict.fromkeys(("bath_synthesis", "integration", "actions", "accumulation"), 0.0)
 
-    bath, test, phase0 = _initial_conditions(state, run, sampling.make_rng(seed, member))
+    rng = sampling.make_rng(seed, member)
+    bath, test, phase0 = _initial_conditions(state, run, rng)
+    track = _tracked_subset(run, rng)
+    all_tracked = track.size == len(bath)
     edges = run.jbar_edges(M0)
     n_sub, n_samp = run.steps_per_sample, run.n_samples
     n_track = run.n_tracked
+    n_f = track.size  # tracked particles of the N (MD(full))
     acc = DisplacementAccumulator(
         n_track, edges, n_samp + 1, run.lag_samples, run.origin_samples, run.n_blocks
     )
     n_store = min(int(run.n_store), n_track)
     store_idx = np.unique(np.linspace(0, n_track - 1, n_store).astype(np.int64))
 
+    # ---- the magnetisation of the bath / interacting particles at every time step ----
+    n_total_steps = run.n_steps
+    exact = None
+    if run.exact_bath:
+        t0 = _time.perf_counter()
+        exact = ExactBath(
+            bath.theta,
+            bath.p,
+            M0,
+            dt=run.dt,
+            n_steps=n_total_steps,
+            tolerance=run.bath_tolerance,
+            threads=1,  # one thread: the FFT's sums in a fixed order, whatever `threads`
+        )
+        clock["bath_synthesis"] = _time.perf_counter() - t0
+        m_all = exact.history
+    else:
+        m_all = np.empty((n_total_steps + 1, 2))
+        m_all[0] = bath.moments()[:2]
+
     # ---- integration: velocity Verlet, p synchronised with theta after each call ----
-    M = bath.moments()[:2].copy()  # magnetisation of the bath / interacting particles
     work = (np.zeros((max(n_sub, 1), 4)), np.zeros((max(n_sub, 1), 4)))
+    step = 0  # time steps done
 
     def advance(n_steps):
-        nonlocal M
-        M = advance_system(
-            bath, test, dynamics=run.dynamics, M=M, n_steps=n_steps, dt=run.dt, M0=M0, work=work
-        )
+        nonlocal step
+        t0 = _time.perf_counter()
+        if exact is not None:
+            advance_in_field(test, m_all[step : step + n_steps + 1], dt=run.dt, work=work[1])
+        else:
+            advance_system(
+                bath,
+                test,
+                dynamics=run.dynamics,
+                M=m_all[step],
+                n_steps=n_steps,
+                dt=run.dt,
+                M0=M0,
+                work=work,
+                m_out=m_all[step + 1 : step + n_steps + 1],
+            )
+        step += n_steps
+        clock["integration"] += _time.perf_counter() - t0
 
     full = run.dynamics == "full"
-    n_b = run.n_particles
     J = np.empty(n_track)
     Jb = np.empty(n_track)
     n_times = n_samp + 1
@@ -149,66 +206,70 @@ def run_md(
     store_th = np.zeros((n_times, store_idx.size))
     store_p = np.zeros_like(store_th)
     store_J = np.zeros_like(store_th)
-    st_b = store_idx[store_idx < n_b] if full else store_idx[:0]
-    st_t = store_idx[store_idx >= n_b] - n_b if full else store_idx
+    st_b = track[store_idx[store_idx < n_f]]  # stored particles of the N, as bath indices
+    st_t = store_idx[store_idx >= n_f] - n_f
 
     def measure(s):
-        mom = bath.moments()
-        ts["Mx"][s], ts["My"][s] = mom[0], mom[1]
-        ts["momentum"][s] = mom[2]
-        if full:
-            ts["energy"][s] = 0.5 * mom[3] - 0.5 * (mom[0] ** 2 + mom[1] ** 2)
-            phase = math.atan2(mom[1], mom[0])
-            actions(bath.theta, bath.p, M0, phase, (J[:n_b], Jb[:n_b]))
-            if run.n_test:
-                actions(test.theta, test.p, M0, phase, (J[n_b:], Jb[n_b:]))
+        t0 = _time.perf_counter()
+        if exact is not None:
+            ts["Mx"][s], ts["My"][s] = m_all[step]
+            ts["momentum"][s] = exact.momentum[step]
+            ts["energy"][s] = exact.energy
         else:
-            ts["energy"][s] = 0.5 * mom[3] - M0 * mom[0]
-            phase = 0.0
-            actions(test.theta, test.p, M0, 0.0, (J, Jb))
+            mom = bath.moments()
+            ts["Mx"][s], ts["My"][s] = mom[0], mom[1]
+            ts["momentum"][s] = mom[2]
+            if full:
+                ts["energy"][s] = 0.5 * mom[3] - 0.5 * (mom[0] ** 2 + mom[1] ** 2)
+            else:
+                ts["energy"][s] = 0.5 * mom[3] - M0 * mom[0]
+        phase = math.atan2(ts["My"][s], ts["Mx"][s]) if full else 0.0
+        if full:
+            th_f = bath.theta if all_tracked else bath.theta[track]
+            p_f = bath.p if all_tracked else bath.p[track]
+            actions(th_f, p_f, M0, phase, (J[:n_f], Jb[:n_f]))
+        if run.n_test:
+            actions(test.theta, test.p, M0, phase, (J[n_f:], Jb[n_f:]))
         th_st = np.concatenate([bath.theta[st_b], test.theta[st_t]])
         store_th[s] = sampling.wrap_angle(th_st - phase)
         store_p[s] = np.concatenate([bath.p[st_b], test.p[st_t]])
         store_J[s] = J[store_idx]
+        t1 = _time.perf_counter()
         acc.add(s, J, Jb)
+        clock["actions"] += t1 - t0
+        clock["accumulation"] += _time.perf_counter() - t1
 
     # ---- run ----
-    n_total_steps = run.n_steps
-    n_all = run.n_particles + run.n_test
+    n_all = run.n_test + (0 if exact is not None else run.n_particles)
     t_start = _time.perf_counter()
     last = [t_start, 0]  # wall time and steps at the last report
-    steps_done = 0
 
     def report(tsim):
         now = _time.perf_counter()
         if now - last[0] >= progress_every:
-            rate = (steps_done - last[1]) * n_all / max(now - last[0], 1e-9)
+            rate = (step - last[1]) * n_all / max(now - last[0], 1e-9)
             progress(
                 f"run_md[{run.dynamics}] t = {tsim:.6g} / {run.t_equilibrate + run.t_max:.6g} "
-                f"({100.0 * steps_done / n_total_steps:.1f}%), {rate:.3g} particle-steps/s "
-                "(including measurements)"
+                f"({100.0 * step / n_total_steps:.1f}%), {rate:.3g} integrated "
+                "particle-steps/s (including measurements)"
             )
-            last[0], last[1] = now, steps_done
+            last[0], last[1] = now, step
 
-    remaining = run.equilibration_steps
-    while remaining > 0:
-        k = min(remaining, work[0].shape[0])
-        advance(k)
-        remaining -= k
-        steps_done += k
-        report(steps_done * run.dt)
+    while step < run.equilibration_steps:
+        advance(min(run.equilibration_steps - step, work[0].shape[0]))
+        report(step * run.dt)
     measure(0)
     for s in range(1, n_samp + 1):
         advance(n_sub)
-        steps_done += n_sub
         measure(s)
         report(run.t_equilibrate + s * run.sample_every)
     wall = _time.perf_counter() - wall0
     progress(
         f"run_md[{run.dynamics}] done in {wall:.1f} s wall, "
-        f"{steps_done * n_all / max(_time.perf_counter() - t_start, 1e-9):.3g} "
-        "particle-steps/s"
+        f"{step * n_all / max(_time.perf_counter() - t_start, 1e-9):.3g} "
+        "integrated particle-steps/s; " + ", ".join(f"{k} {v:.1f} s" for k, v in clock.items())
     )
+    m_fine = m_all[run.equilibration_steps :: run.m_steps]
 
     if full:
         e_def = "H/N = sum p^2/(2N) - (Mx^2 + My^2)/2 of the N interacting particles"
@@ -220,14 +281,21 @@ def run_md(
         )
         frame = "fixed frame (static field on x)"
     attrs = run.attrs(M0)
+    attrs.update({f"wall_{k}_s": v for k, v in clock.items()})
+    if exact is not None:
+        attrs.update(exact.attrs())
+        e_def = (
+            "mean one-particle energy of the bath in the static field, "
+            "sum (p^2/2 - M0 cos theta)/N_b (constant: the bath moves on exact orbits)"
+        )
     attrs.update(
+        energy_definition=e_def,
         integrator=INTEGRATOR,
         seed=int(seed),
         member=int(member),
         threads=int(threads),
         M0_actions=M0,
         action_frame=frame,
-        energy_definition=e_def,
         initial_rotation=phase0,
         wall_time_s=wall,
         state_kind=getattr(state, "kind", type(state).__name__),
@@ -243,6 +311,7 @@ def run_md(
             [acc.block_of(o) for o in range(acc.n_origins)], minlength=acc.n_blocks
         ),
         series=ts,
+        m_fine=m_fine,
         tracer=store_idx,
         sample_theta=store_th,
         sample_p=store_p,

@@ -26,6 +26,8 @@ __all__ = ["DYNAMICS", "MDRun", "md_runs"]
 #: MD(bath), eq. hmfmdbath, and MD(full), eq. hmfmdfull
 DYNAMICS = ("bath", "full")
 TEST_SAMPLINGS = ("uniform", "f")
+#: how MD(bath) moves its bath: exact orbits in the static field (`exact_bath`) or integrated
+BATHS = ("exact", "integrated")
 
 #: fields that say how the workflow runs and fits the realisations, not what one computes
 WORKFLOW_FIELDS = ("seeds", "threads", "fit_window", "min_particles", "separatrix_band_fit")
@@ -44,6 +46,7 @@ _INTEGERS = (
 # (field, lower bound, lower bound included, upper bound) of the real fields; upper open
 _REALS = (
     ("dt", 0.0, False, math.inf),
+    ("bath_tolerance", 0.0, False, 1e-3),
     ("t_max", 0.0, False, math.inf),
     ("sample_every", 0.0, False, math.inf),
     ("max_lag", 0.0, False, math.inf),
@@ -59,6 +62,7 @@ _MULTIPLES = (
     ("origin_every", "sample_every"),
     ("t_max", "sample_every"),
     ("t_equilibrate", "dt"),
+    ("m_every", "dt"),
 )
 
 
@@ -80,7 +84,14 @@ class MDRun:
     Integration and measurement: time step `dt`; `t_equilibrate` without measurement, then
     `t_max` of production sampled every `sample_every`; origins every `origin_every`, lags up to
     `max_lag`, origins split into `n_blocks` blocks; `n_bins` bins of the initial J-bar uniform
-    over [0, J-bar(kappa_max)]; `n_store` tracked particles stored for illustration.
+    over [0, J-bar(kappa_max)]; `n_store` tracked particles stored for illustration; the
+    magnetisation (Mx, My) stored every `m_every` (default: every sample) for its spectrum.
+    MD(bath): `bath` 'exact' synthesises the bath's magnetisation from its exact orbits
+    (`exact_bath`, harmonics per particle chosen so that the truncation error of each
+    particle's cos theta, sin theta is below `bath_tolerance`), 'integrated' integrates the
+    N_b bath particles.  MD(full): `n_track` of the N particles, drawn at random, have their
+    actions measured (None: all N); they are statistically equivalent, and the noise of <dJ^2>
+    comes from the field, not from the number of tracked particles.
     Workflow (`WORKFLOW_FIELDS`, no effect on one realisation's numbers): `seeds`
     realisations, `threads` per job, and the fit of <dJ^2> over `fit_window` = (t_min, t_max)
     in bins with at least `min_particles`, flagging bins within `separatrix_band_fit` of
@@ -104,6 +115,10 @@ class MDRun:
     jbar_range: tuple[float, float] | None = None
     zero_momentum: bool = True
     n_store: int = 16
+    m_every: float | None = None
+    bath: str = "exact"
+    bath_tolerance: float = 1e-9
+    n_track: int | None = None
     seeds: int = 1
     threads: int = 1
     fit_window: tuple[float, float] | None = None
@@ -144,6 +159,20 @@ class MDRun:
             self._set(name, int(v))
         for name, lo, lo_closed, hi in _REALS:
             self._set(name, self._real(name, getattr(self, name), lo, lo_closed, hi))
+        if self.n_track is not None:
+            v = self.n_track
+            ok = isinstance(v, Real) and not isinstance(v, bool) and float(v).is_integer()
+            if not (ok and 1 <= v <= self.n_particles):
+                self._fail(
+                    f"field 'n_track' = {v!r} must be null (all) or an integer in "
+                    f"[1, n_particles = {self.n_particles}]"
+                )
+            self._set("n_track", int(v))
+        if self.m_every is None:
+            self._set("m_every", self.sample_every)
+        self._set("m_every", self._real("m_every", self.m_every, 0.0, False, math.inf))
+        if self.bath not in BATHS:
+            self._fail(f"field 'bath' = {self.bath!r} must be 'exact' or 'integrated'")
         if self.max_lag > self.t_max:
             self._fail(f"max_lag = {self.max_lag} exceeds t_max = {self.t_max}")
         for name, unit in _MULTIPLES:
@@ -223,9 +252,32 @@ class MDRun:
         return self.equilibration_steps + self.n_samples * self.steps_per_sample
 
     @property
+    def m_steps(self):
+        """Time steps between two stored values of the magnetisation: m_every / dt."""
+        return _whole_multiple(self.m_every, self.dt)
+
+    @property
+    def n_m_samples(self):
+        """Stored magnetisation values over production: t_max // m_every + 1."""
+        return self.n_samples * self.steps_per_sample // self.m_steps + 1
+
+    @property
+    def n_tracked_from_f(self):
+        """Tracked particles drawn from f: for 'full' n_track (all N by default), else 0."""
+        if self.dynamics != "full":
+            return 0
+        return self.n_particles if self.n_track is None else self.n_track
+
+    @property
     def n_tracked(self):
-        """Particles whose actions are measured: the test particles, and for 'full' all N."""
-        return self.n_test + (self.n_particles if self.dynamics == "full" else 0)
+        """Particles whose actions are measured: the test particles, and for 'full' the n_track
+        tracked particles of the N (all N by default)."""
+        return self.n_test + self.n_tracked_from_f
+
+    @property
+    def exact_bath(self):
+        """True when MD(bath) synthesises its bath from exact orbits."""
+        return self.dynamics == "bath" and self.bath == "exact"
 
     # ---------------------------------------------------------------- state-dependent values
     def jbar_max(self, M0):
@@ -249,8 +301,10 @@ class MDRun:
         return int(1000 + (48 * n + 11 * self.n_tracked * slots) / 1e6 * 1.3)
 
     def runtime_min(self):
-        """Wall-time request of one job in minutes, at a conservative 5e7 particle-steps/s."""
-        steps = (self.n_particles + self.n_test) * (self.t_max + self.t_equilibrate) / self.dt
+        """Wall-time request of one job in minutes, at a conservative 5e7 particle-steps/s
+        (an exact bath counts as 1/20 of its particles integrated)."""
+        n_bath = self.n_particles / 20 if self.exact_bath else self.n_particles
+        steps = (n_bath + self.n_test) * (self.t_max + self.t_equilibrate) / self.dt
         return int(10 + steps / 5e7 / 60 * 2)
 
     # ---------------------------------------------------------------- serialisation
@@ -289,6 +343,10 @@ class MDRun:
             "N": self.n_particles,
             "n_test": self.n_test,
             "n_tracked": self.n_tracked,
+            "n_tracked_from_f": self.n_tracked_from_f,
+            "bath": self.bath if self.dynamics == "bath" else "none",
+            "bath_tolerance": self.bath_tolerance if self.exact_bath else "none",
+            "m_every": self.m_every,
             "test_sampling": self.test_sampling if self.n_test else "none",
             "jbar_range": jr if self.test_sampling == "uniform" else "none",
             "dt": self.dt,

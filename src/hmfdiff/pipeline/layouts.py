@@ -312,6 +312,18 @@ def md_dataset(result):
             "momentum per particle",
             f"total momentum per particle sum p_i / N of {who}",
         ),
+        Mx_fine=variable(
+            ("time_fine",),
+            result.m_fine[:, 0],
+            "1",
+            f"magnetisation x component of {who}, every m_every (for its spectrum)",
+        ),
+        My_fine=variable(
+            ("time_fine",),
+            result.m_fine[:, 1],
+            "1",
+            f"magnetisation y component of {who}, every m_every (for its spectrum)",
+        ),
         sample_theta=variable(
             tt, result.sample_theta, "rad", "angle of sample tracked particles in the action frame"
         ),
@@ -339,6 +351,12 @@ def md_dataset(result):
             np.arange(result.sample_theta.shape[0]) * run.sample_every,
             "time",
             "time since the start of production",
+        ),
+        "time_fine": variable(
+            ("time_fine",),
+            np.arange(result.m_fine.shape[0]) * run.m_every,
+            "time",
+            "time since the start of production (magnetisation every m_every)",
         ),
         "block": variable(
             ("block",), np.arange(run.n_blocks), "1", "block of consecutive time origins"
