@@ -329,3 +329,91 @@ def test_run_md_refuses_more_threads_than_cores(state):
     too_many = numba.config.NUMBA_NUM_THREADS + 1
     with pytest.raises(ValueError, match=rf"threads = {too_many} must be an integer in \[1, "):
         md.run_md(state, run, seed=0, threads=too_many, progress=None)
+
+
+# ------------------------------------------------------------------ compiled-kernel cache
+_JOB = """
+import json, sys, time
+from pathlib import Path
+from hmfdiff.dynamics.kernel_cache import cache_counts, use_kernel_cache
+use_kernel_cache(sys.argv[1])
+# start together: announce, then wait until the other job has announced too
+Path(sys.argv[2]).touch()
+deadline = time.monotonic() + 120
+while not Path(sys.argv[3]).exists():
+    assert time.monotonic() < deadline, "the other job never started"
+    time.sleep(0.01)
+from hmfdiff.dynamics import md
+from hmfdiff.dynamics.settings import MDRun
+from hmfdiff.meanfield.equilibrium import ThermalState
+run = MDRun(dynamics=sys.argv[4], n_particles=500, n_test=10, dt=0.1, t_max=4.0,
+            sample_every=0.5, max_lag=2.0, origin_every=0.5, n_blocks=1)
+res = md.run_md(ThermalState(M0=0.7), run, seed=1, progress=None)
+print(json.dumps({**cache_counts(), "sum": float(res.sums.sum())}))
+"""
+
+
+def _two_jobs_together(tmp_path, shared, dynamics):
+    import json
+    import subprocess
+    import sys
+
+    script = tmp_path / "job.py"
+    script.write_text(_JOB)
+    a, b = tmp_path / "a.started", tmp_path / "b.started"
+    procs = [
+        subprocess.Popen(
+            [sys.executable, str(script), str(shared), str(me), str(other), dynamics],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for me, other in ((a, b), (b, a))
+    ]
+    outs = [p.communicate(timeout=600) for p in procs]
+    for p, (_out, err) in zip(procs, outs, strict=True):
+        assert p.returncode == 0, err[-3000:]
+    return [json.loads(out.strip().splitlines()[-1]) for out, _ in outs]
+
+
+@pytest.mark.parametrize("dynamics", ["bath", "full"])
+def test_two_md_jobs_started_together_share_the_warmed_kernels(tmp_path, dynamics):
+    """The workflow's design: one job warms the shared cache of the kernel version, then MD
+    jobs started together each load every kernel from a private copy: both succeed, neither
+    compiles, and they compute the same numbers."""
+    import subprocess
+    import sys
+
+    from hmfdiff.dynamics import kernel_cache
+
+    shared = tmp_path / "kernels" / kernel_cache.kernel_version()
+    warm = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            f"from hmfdiff.dynamics import kernel_cache as k; k.warm({str(shared)!r})",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert warm.returncode == 0, warm.stderr[-3000:]
+    assert (shared / "ready.json").is_file()
+    assert not list(shared.parent.glob(".*tmp-*"))  # the scratch directory was renamed
+    before = sorted(p.relative_to(shared) for p in shared.rglob("*"))
+    r1, r2 = _two_jobs_together(tmp_path, shared, dynamics)
+    for r in (r1, r2):
+        assert r["hits"] >= 3 and r["misses"] == 0, r
+    assert r1["sum"] == r2["sum"]
+    assert sorted(p.relative_to(shared) for p in shared.rglob("*")) == before  # read only
+
+
+def test_two_md_jobs_started_together_with_a_cold_cache(tmp_path):
+    """Without a warmed cache both jobs compile, each into its own copy: both succeed and the
+    shared directory is never written."""
+    shared = tmp_path / "kernels" / "missing"
+    r1, r2 = _two_jobs_together(tmp_path, shared, "full")
+    for r in (r1, r2):
+        assert r["hits"] == 0 and r["misses"] >= 3, r
+    assert r1["sum"] == r2["sum"]
+    assert not shared.exists()

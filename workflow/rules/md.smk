@@ -1,7 +1,28 @@
+rule kernels:
+    """Compile the MD kernels once into a shared numba cache (one per kernel version), which
+    every MD job copies before it starts: no job compiles, and no two write one cache.
+    """
+    input:
+        lib=lib("kernels.py"),
+    output:
+        directory(KERNELS),
+    log:
+        "logs/kernels.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=1500,
+        runtime=15,
+    script:
+        "../scripts/kernels.py"
+
+
 rule md:
     """One MD realisation (seed): MD(bath) or MD(full), with <dJ^2> accumulated on the fly."""
     input:
         equilibrium="results/equilibrium/{case}.nc",
+        kernels=KERNELS,
         lib=lib("md.py"),
     output:
         "results/md/{case}/{dynamics}/seed{seed}.nc",

@@ -1,9 +1,12 @@
 # ---- molecular dynamics -------------------------------------------------------------
 # One MDRun record per (case, dynamics), built once from the config's md section (defaults
 # merged with each case's overrides); every md/fit rule setting below is read from it.
+from hmfdiff.dynamics.kernel_cache import kernel_version
 from hmfdiff.dynamics.settings import md_runs
 
 MD_RUNS = md_runs(config)
+# the shared numba cache of the MD kernels of this version of the dynamics sources
+KERNELS = f"results/kernels/{kernel_version()}"
 
 
 def md_cases():

@@ -10,7 +10,9 @@ contiguous blocks for error estimates.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
+
+from .kernel_cache import njit
 
 __all__ = ["DisplacementAccumulator"]
 

@@ -18,7 +18,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
+
+from .kernel_cache import njit
 
 __all__ = ["sincos_array", "sincos_wrapped_array", "actions_from_kappa", "actions"]
 

@@ -37,11 +37,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..meanfield import orbits
 from ..meanfield.fourier import cos_coefficient
 from .integrator import Field, Particles
+from .kernel_cache import njit
 
 __all__ = ["MAX_HARMONICS", "ExactBath", "harmonic_amplitudes", "harmonics_needed"]
 
