@@ -226,6 +226,18 @@ BAD = [
         ["md run 'twostep_ch'", "two-step"],
     ),
     (
+        "relaxation_two_step",
+        edited(**{"relaxation__runs__twostep_ch": {}}),
+        [],
+        ["relaxation run 'twostep_ch'", "delta-function"],
+    ),
+    (
+        "relaxation_typo",
+        edited(**{"relaxation__runs__corehalo_ch2": {"n_node": 48}}),
+        [],
+        ["relaxation run 'corehalo_ch2': unknown field 'n_node'", "did you mean 'n_nodes'"],
+    ),
+    (
         "figure_missing_case",
         edited(figures__fig01_orbits={"case": "nonexistent"}),
         [],

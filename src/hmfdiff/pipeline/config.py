@@ -14,7 +14,8 @@ is allowed:
    every state, MD only for states with a smooth f, the MD time step against the fastest
    orbital period of the state, N against the noise of the magnetisation, every MD run's
    settings (`hmfdiff.dynamics.settings.md_runs`: whole multiples of dt, ...), its memory
-   estimate against this machine's, figures naming existing cases of the right kind.
+   estimate against this machine's, relaxation runs of smooth states, figures naming existing
+   cases of the right kind.
 
 `python -m hmfdiff.pipeline.config FILE...` checks config files outside Snakemake.
 """
@@ -188,6 +189,20 @@ def _check_md_memory(runs):
             )
 
 
+# ---- relaxation ---------------------------------------------------------------------------
+def _check_relaxation(config):
+    """Each case evolved by the kinetic equations exists and has a smooth f."""
+    for case in (config.get("relaxation") or {}).get("runs", {}):
+        where = f"relaxation run '{case}'"
+        if case not in config["cases"]:
+            raise ConfigError(f"{where}: names case '{case}', which is not in 'cases'")
+        if config["cases"][case]["kind"] == "two_step":
+            raise ConfigError(
+                f"{where}: a two-step state has a delta-function df/dkappa; evolve a smooth "
+                "state (thermal or core_halo)"
+            )
+
+
 # ---- figures ----------------------------------------------------------------------------
 def _check_figures(config):
     cases = config["cases"]
@@ -209,6 +224,7 @@ def check_physics(config):
     states = _states(config)
     _check_md_physics(config, states)
     _check_md_memory(md_runs(config))
+    _check_relaxation(config)
     _check_figures(config)
 
 

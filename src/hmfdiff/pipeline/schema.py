@@ -133,13 +133,13 @@ def _field_names(schema, root):
 
 # ---- where, field, value ---------------------------------------------------------------
 def where_of(path):
-    """Human name of the object at `path` (a list of keys): case 'x', md run 'x', figure 'x',
-    a dotted section name, or 'config'."""
+    """Human name of the object at `path` (a list of keys): case 'x', md run 'x', relaxation
+    run 'x', figure 'x', a dotted section name, or 'config'."""
     p = [str(k) for k in path]
     if len(p) >= 2 and p[0] == "cases":
         return f"case '{p[1]}'"
-    if len(p) >= 3 and p[:2] == ["md", "runs"]:
-        return f"md run '{p[2]}'"
+    if len(p) >= 3 and p[:2] in (["md", "runs"], ["relaxation", "runs"]):
+        return f"{p[0]} run '{p[2]}'"
     if len(p) >= 2 and p[0] == "figures":
         return f"figure '{p[1]}'"
     return ".".join(p) if p else "config"
