@@ -6,7 +6,11 @@ action evaluation of 5e5 particles, and the same for a plain vectorised numpy im
 (the baseline), with ratios; with --memory, the peak RSS of a short N = 5e5 run_md with 100
 active time origins (measured in a fresh subprocess).
 
-    python benchmarks/bench_md.py [--json] [--threads 2] [--n 500000] [--memory]
+    python benchmarks/bench_md.py [--json] [--threads 2] [--n 500000] [--memory] [--no-ensemble]
+
+It also times the bath of one MD(bath) realisation (t = 1000, dt = 0.05) at N_b = n both ways,
+exact orbits against integration (`exact_bath_speedup` in --json, CPU time), and includes the
+ensemble engine's figure of issue 14 (benchmarks/bench_ensemble.py, keys `ensemble_*`).
 
 The numba kernels are compiled (warmed) on small arrays before any timing; no numba cache is
 used.  Timings are the best of several repetitions of wall-clock time.
@@ -25,7 +29,7 @@ import time
 import numba
 import numpy as np
 
-from hmfdiff.dynamics import accumulator, elementary, integrator, md, sampling
+from hmfdiff.dynamics import accumulator, elementary, exact_bath, integrator, md, sampling
 from hmfdiff.dynamics.settings import MDRun
 from hmfdiff.meanfield import equilibrium, orbits
 
@@ -153,6 +157,49 @@ def measure(n, threads, n_test_bath):
     return res
 
 
+def exact_bath_cost(n, threads, t_run=1000.0, dt=0.05, short_steps=200):
+    """Cost of the bath of one MD(bath) realisation of t_run at N_b = n, both ways, on the same
+    initial conditions: the integrated bath (velocity Verlet of n particles, timed over
+    `short_steps` steps and scaled to t_run / dt) and the exact bath (orbits, harmonics and the
+    non-uniform FFT of the whole run, timed whole).  CPU seconds of this process (robust to
+    the load of a shared machine) and wall seconds."""
+    numba.set_num_threads(threads)
+    state = equilibrium.ThermalState(M0=M0)
+    th, p = sampling.sample_thermal(state, n, sampling.make_rng(3))
+    th, _ = sampling.rotate_to_x_axis(th)
+    n_steps = int(round(t_run / dt))
+    exact_bath.ExactBath(th[:200], p[:200], M0, dt=dt, n_steps=10)  # compile
+    B = integrator.Particles(th, p)
+    integrator.leapfrog(integrator.Particles(th[:100], p[:100]), 3, dt, "static", fx=M0)
+
+    def timed(fn):
+        c0, w0 = time.process_time(), time.perf_counter()
+        out = fn()
+        return time.process_time() - c0, time.perf_counter() - w0, out
+
+    cpu_i, wall_i, _ = min(
+        (timed(lambda: integrator.leapfrog(B, short_steps, dt, "static", fx=M0)) for _ in range(3)),
+        key=lambda r: r[0],
+    )
+    scale = n_steps / short_steps
+    cpu_e, wall_e, eb = timed(
+        lambda: exact_bath.ExactBath(th, p, M0, dt=dt, n_steps=n_steps, tolerance=1e-9)
+    )
+    return {
+        "exact_bath_n": n,
+        "exact_bath_t_run": t_run,
+        "exact_bath_dt": dt,
+        "integrated_bath_cpu_s_per_realisation": cpu_i * scale,
+        "integrated_bath_wall_s_per_realisation": wall_i * scale,
+        "exact_bath_cpu_s_per_realisation": cpu_e,
+        "exact_bath_wall_s_per_realisation": wall_e,
+        "exact_bath_speedup": cpu_i * scale / cpu_e,
+        "exact_bath_harmonics_per_particle": eb.n_points / n,
+        "exact_bath_harmonics_max": eb.max_harmonics_used,
+        "exact_bath_n_direct": eb.n_direct,
+    }
+
+
 def memory_run(n, threads):
     """A short run_md at N = n with 100 active origins; returns (peak RSS in GB, wall s)."""
     state = equilibrium.ThermalState(M0=M0)
@@ -191,12 +238,22 @@ def main(argv=None):
         help="also measure the peak RSS of a short run (in a subprocess)",
     )
     ap.add_argument("--memory-child", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--no-ensemble", action="store_true", help="skip the ensemble engine's figure")
     args = ap.parse_args(argv)
     if args.memory_child:
         rss, wall = memory_run(args.n, args.threads)
         print(json.dumps({"peak_rss_gb": rss, "memory_run_wall_s": wall}))
         return
     res = measure(args.n, args.threads, args.n_test_bath)
+    res.update(exact_bath_cost(args.n, args.threads))
+    if not args.no_ensemble:  # issue 14's figure, from benchmarks/bench_ensemble.py
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import bench_ensemble
+
+        ens = bench_ensemble.measure(threads=args.threads)
+        res.update(
+            {f"ensemble_{k}" if not k.startswith("ensemble") else k: v for k, v in ens.items()}
+        )
     if args.memory:
         out = subprocess.run(
             [
@@ -247,6 +304,20 @@ def main(argv=None):
         f"numba threading layer {res['threading_layer']}, OMP_WAIT_POLICY "
         f"{res['omp_wait_policy']})"
     )
+    print(
+        f"bath of one MD(bath) realisation (N_b = {res['exact_bath_n']}, t = "
+        f"{res['exact_bath_t_run']:g}, dt = {res['exact_bath_dt']:g}), CPU s: integrated "
+        f"{res['integrated_bath_cpu_s_per_realisation']:.3g}, exact orbits "
+        f"{res['exact_bath_cpu_s_per_realisation']:.3g}  (x{res['exact_bath_speedup']:.1f}; "
+        f"{res['exact_bath_harmonics_per_particle']:.1f} harmonics per particle, at most "
+        f"{res['exact_bath_harmonics_max']}, {res['exact_bath_n_direct']} integrated directly)"
+    )
+    if "ensemble_particle_steps_per_s" in res:
+        print(
+            f"ensemble (issue 14): N = {res['ensemble_n']}, R = {res['ensemble_r']}: "
+            f"{res['ensemble_particle_steps_per_s']:.3g} particle-steps/s aggregate "
+            f"(single-system kernel x{res['ensemble_speedup']:.2f} slower)"
+        )
     if "peak_rss_gb" in res:
         print(
             f"peak RSS of a short run_md at N = {res['n']} with 100 active origins: "

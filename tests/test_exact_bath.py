@@ -75,7 +75,7 @@ def test_synthesised_magnetisation_matches_the_integrated_bath(state):
         eb = exact_bath.ExactBath(th, p, M0, dt=dt, n_steps=n, tolerance=1e-11)
         mi, P = integrated_magnetisation(th, p, dt, n)
         assert eb.n_direct == 0
-        assert np.max(np.abs(eb.history[0] - mi[0])) < 1e-12
+        assert np.max(np.abs(eb.history[0] - mi[0])) < 5e-11  # truncation + FFT, ~ tolerance each
         errs.append(np.max(np.abs(eb.history - mi)))
         # mean momentum from d<p>/dt = -M0 My, against the integrated particles: within the
         # time integral of the field's error

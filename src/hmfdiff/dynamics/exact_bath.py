@@ -24,7 +24,8 @@ first N_i harmonics, N_i the smallest integer with the tail bound
                                                / ((1 - rho^2) (1 - rho)^2)  <=  tolerance,
 
 so that truncation moves each cos theta_i, sin theta_i, hence Mx and My, by at most
-`tolerance` at every time.  Orbits that would need more than `max_harmonics` (the few within
+`tolerance` at every time; the transform's own error is set to an rms error of about
+`tolerance` on M as well.  Orbits that would need more than `max_harmonics` (the few within
 ~1e-7 of the separatrix, where q -> 1) are integrated directly by velocity Verlet in the static
 field, with the run's time step, and their cos, sin added to the synthesised sums.
 
@@ -48,8 +49,8 @@ __all__ = ["MAX_HARMONICS", "ExactBath", "harmonic_amplitudes", "harmonics_neede
 
 #: most harmonics synthesised for one orbit; orbits needing more are integrated directly
 MAX_HARMONICS = 256
-#: points per call of the non-uniform FFT (bounds the memory: ~40 bytes per point)
-_CHUNK_POINTS = 2_000_000
+#: points per call of the non-uniform FFT (buffers of ~40 bytes per point, reused)
+_CHUNK_POINTS = 500_000
 
 
 def _orbit_parameters(kappa):
@@ -83,11 +84,12 @@ def _harmonics_needed(rho, A, tolerance, max_harmonics, out):
         out[i] = n
 
 
-def harmonics_needed(kappa, tolerance, max_harmonics=MAX_HARMONICS):
+def harmonics_needed(kappa, tolerance, max_harmonics=MAX_HARMONICS, parameters=None):
     """N_i of each orbit (module docstring); max_harmonics + 1 where more than max_harmonics
-    would be needed (the separatrix, kappa = 1, included)."""
+    would be needed (the separatrix, kappa = 1, included).  parameters: `_orbit_parameters`
+    of kappa if already computed."""
     kappa = np.ascontiguousarray(kappa, dtype=float)
-    rho, A, _ = _orbit_parameters(kappa)
+    rho, A, _ = _orbit_parameters(kappa) if parameters is None else parameters
     out = np.empty(kappa.size, dtype=np.int64)
     _harmonics_needed(rho, A, float(tolerance), int(max_harmonics), out)
     return out
@@ -112,23 +114,26 @@ def _coefficients(n, r_n, A, lib, sign):
 
 @njit(parallel=True)
 def _sources(first, count, offsets, rho, A, lib, sign, w, omega_dt, shift, x, ax, ay):
-    """Points x = n Omega dt (wrapped) and strengths 2 c_n e^{i(n w + shift x)},
-    2 sigma_n e^{i(n w + shift x)} of the orbits first ... first + count - 1 (the shift places
-    time step 0 on the first mode of the transform)."""
+    """Points x = n Omega dt (wrapped to [-pi, pi)) and strengths 2 c_n z^n, 2 sigma_n z^n with
+    z = e^{i (w + shift Omega dt)} (= e^{i (n w + shift x)} for the integer shift, which places
+    time step 0 on the first mode of the transform), for the orbits first ... first + count - 1.
+    z^n by recurrence (rounding ~ n 1e-16, n <= MAX_HARMONICS)."""
+    two_pi = 2.0 * math.pi
     for j in prange(count):
         i = first + j
         o = offsets[i] - offsets[first]
+        phi = (w[i] + shift * omega_dt[i]) % two_pi
+        z1 = complex(math.cos(phi), math.sin(phi))
+        z = complex(1.0, 0.0)
         r_n = 1.0
         for n in range(1, offsets[i + 1] - offsets[i] + 1):
             r_n *= rho[i]
+            z *= z1
             c, s = _coefficients(n, r_n, A[i], lib[i], sign[i])
             xx = n * omega_dt[i]
-            xx = xx - 2.0 * math.pi * math.floor(xx / (2.0 * math.pi) + 0.5)
-            ph = n * w[i] + shift * xx
-            e = complex(math.cos(ph), math.sin(ph))
-            x[o + n - 1] = xx
-            ax[o + n - 1] = 2.0 * c * e
-            ay[o + n - 1] = 2.0 * s * e
+            x[o + n - 1] = xx - two_pi * math.floor(xx / two_pi + 0.5)
+            ax[o + n - 1] = 2.0 * c * z
+            ay[o + n - 1] = 2.0 * s * z
 
 
 def harmonic_amplitudes(kappa, n_max, sign=1.0):
@@ -173,12 +178,13 @@ class ExactBath:
         n_steps = int(n_steps)
         self.M0, self.dt, self.n_steps, self.tolerance = float(M0), float(dt), n_steps, tolerance
         kappa, w, sign = orbits.angle_action(theta, p, M0)
-        n_harm = harmonics_needed(kappa, tolerance, n_max)
+        params = _orbit_parameters(kappa)
+        n_harm = harmonics_needed(kappa, tolerance, n_max, params)
         direct = n_harm > n_max
         self.n_direct = int(direct.sum())
         syn = ~direct
         kappa_s, w_s, sign_s, nh = kappa[syn], w[syn], sign[syn], n_harm[syn]
-        rho, A, lib = _orbit_parameters(kappa_s)
+        rho, A, lib = (v[syn] for v in params)
         omega_dt = orbits.frequency(kappa_s, M0) * dt
         offsets = np.concatenate([[0], np.cumsum(nh)]).astype(np.int64)
         self.n_points = int(offsets[-1])
@@ -186,7 +192,13 @@ class ExactBath:
 
         n_modes = n_steps + 1 + (n_steps + 1) % 2  # even number of modes >= n_steps + 1
         shift = n_modes // 2
+        # the transform's relative l2 error eps gives an rms error ~ eps sqrt(n_points) / N_b
+        # on M (strengths |a| <= 1): eps = tolerance N_b / sqrt(n_points), within [1e-14, 1e-6]
+        eps = float(np.clip(tolerance * n_b / np.sqrt(max(self.n_points, 1)), 1e-14, 1e-6))
+        self.fft_eps = eps
         F = np.zeros((2, n_modes), dtype=complex)
+        size = min(self.n_points, _CHUNK_POINTS)
+        x_buf, a_buf = np.empty(size), np.empty((2, size), dtype=complex)
         first = 0
         while first < kappa_s.size:
             # orbits first ... last - 1, at most _CHUNK_POINTS harmonics (at least one orbit)
@@ -194,8 +206,10 @@ class ExactBath:
             last = min(max(last, first + 1), kappa_s.size)
             m = int(offsets[last] - offsets[first])
             if m > 0:
-                x = np.empty(m)
-                a = np.empty((2, m), dtype=complex)
+                if m > x_buf.size:
+                    x_buf, a_buf = np.empty(m), np.empty((2, m), dtype=complex)
+                x = x_buf[:m]
+                a = a_buf if m == x_buf.size else a_buf[:, :m]
                 _sources(
                     first,
                     last - first,
@@ -211,7 +225,7 @@ class ExactBath:
                     a[0],
                     a[1],
                 )
-                eps = max(min(tolerance, 1e-6), 1e-14)
+                a = np.ascontiguousarray(a)  # a copy only for a short last chunk
                 F += finufft.nufft1d1(x, a, n_modes, eps=eps, isign=1, nthreads=int(threads))
             first = last
         c0 = cos_coefficient(0, kappa_s)
@@ -249,6 +263,7 @@ class ExactBath:
             "FFT of the orbits' Fourier series (finufft)",
             "bath_tolerance": self.tolerance,
             "bath_harmonics_total": self.n_points,
+            "bath_fft_eps": self.fft_eps,
             "bath_harmonics_max": self.max_harmonics_used,
             "bath_max_harmonics": MAX_HARMONICS,
             "bath_n_direct": self.n_direct,
