@@ -18,12 +18,32 @@ from __future__ import annotations
 import numpy as np
 
 from ..meanfield import orbits
+from ..pipeline.io import check_physical
 from ..pipeline.layouts import fit_dataset
 
-__all__ = ["FitError", "fit_slope", "diffusion_fit", "theory_at_bins", "validation_rows"]
+__all__ = [
+    "FitError",
+    "FLAGS",
+    "VALIDATION_FLAGS",
+    "fit_slope",
+    "diffusion_fit",
+    "theory_at_bins",
+    "validation_rows",
+]
 
 #: flag values of the fitted bins
-FLAGS = {0: "ok", 1: "too few particles", 2: "within the separatrix band", 3: "no data in window"}
+FLAGS = {
+    0: "ok",
+    1: "too few particles",
+    2: "within the separatrix band",
+    3: "MD value not finite (no data in the fit window)",
+}
+#: flag values of results/validation.csv: those of the fit, then the first of these that holds
+VALIDATION_FLAGS = {
+    **FLAGS,
+    4: "theory not finite (separatrix band or beyond the theory grid)",
+    5: "error of the MD value not finite (fewer than two seeds or blocks with a slope)",
+}
 
 
 class FitError(ValueError):
@@ -74,6 +94,13 @@ def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
     """
     if not datasets:
         raise FitError("no MD datasets to fit")
+    for ds in datasets:  # a corrupt file must stop the fit, not become a number
+        check_physical(
+            ds,
+            sums_of_squares=("sum_dJbar2", "sum_dJbar2_block"),
+            counts=("count", "count_block", "n_particles_in_bin"),
+            increasing=("lag", "jbar_edges"),
+        )
     ref = datasets[0]
     lag = ref["lag"].values
     if window[0] >= window[1]:
@@ -250,8 +277,13 @@ def validation_rows(case, fit, theory, f_of_kappa=None):
     """Rows of results/validation.csv for one case and dynamics.
 
     ND_theory is the bin average of the theory (`theory_bin_average`) when f_of_kappa is given,
-    else the theory at the bin centre.
+    else the theory at the bin centre.  `flag` is the fit's, else 3, 4 or 5 (VALIDATION_FLAGS)
+    when the MD value, the theory or the error of the MD value is not finite.
     """
+    check_physical(
+        fit, counts=("n_particles_in_bin",), increasing=("jbar_edges",), nonnegative=("ND_md_err",)
+    )
+    check_physical(theory, increasing=("kappa",), nonnegative=("D_landau", "D_lenard_balescu"))
     dyn = fit.attrs["dynamics"]
     if f_of_kappa is not None:
         th = theory_bin_average(theory, fit, f_of_kappa)
@@ -263,6 +295,10 @@ def validation_rows(case, fit, theory, f_of_kappa=None):
         with np.errstate(invalid="ignore", divide="ignore"):
             ratio = nd[i] / th[i]
             z = (nd[i] - th[i]) / err[i]
+        flag = int(fit["flag"].values[i])
+        if flag == 0:
+            checks = ((3, nd[i]), (4, th[i]), (5, err[i]))
+            flag = next((code for code, value in checks if not np.isfinite(value)), 0)
         rows.append(
             {
                 "case": case,
@@ -276,7 +312,7 @@ def validation_rows(case, fit, theory, f_of_kappa=None):
                 "ND_theory": float(th[i]),
                 "ratio": float(ratio),
                 "z": float(z),
-                "flag": int(fit["flag"].values[i]),
+                "flag": flag,
                 "n_seeds": int(fit.attrs["n_seeds"]),
             }
         )

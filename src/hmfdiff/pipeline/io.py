@@ -1,41 +1,85 @@
-"""netCDF input/output with provenance, atomic writes and clear errors on bad files.
+"""netCDF input/output with provenance, checksums, atomic writes and clear errors on bad files.
 
 One engine (netCDF4) is used throughout.  Complex arrays never reach a file: store real and
-imaginary parts as separate variables.  Writes go to a temporary file in the target directory
-that is renamed into place only when complete, so a killed job never leaves a file that looks
-whole.
+imaginary parts as separate variables.
+
+Writing.  Every variable with at least one dimension is stored chunked with a Fletcher-32
+checksum (HDF5 `fletcher32`), so that a corrupted chunk makes the read fail instead of
+returning garbage; every variable must carry `units` and `long_name`; the file gets
+`Conventions = "CF-1.10"`, a `title`, the config fragment, the package versions, the git
+revision and a `history` line naming the Snakemake rule (when written by one), the package
+version and the git commit.
+
+Atomicity.  Data go to a hidden temporary file beside the target (`.{name}.{random}.part`),
+renamed onto the target only when complete, so a killed job never leaves a file that looks
+whole.  A writer first deletes the temporary files that a killed writer of the same target
+left behind, so rerunning the killed job (Snakemake's `--rerun-incomplete`) leaves nothing
+behind.  Two processes must not write the same target at the same time (Snakemake never does).
+
+Reading.  `read_dataset` loads a file fully and closes it, and refuses, naming the file (and
+the variable): a missing or unreadable file (truncated, failed checksum), missing variables,
+a dimension coordinate that is not strictly monotonic (CF), a time axis that does not
+increase, and values outside a variable's `valid_min` / `valid_max` / `valid_range`.
+`check_physical` adds the checks a reader that turns data into a result needs (sums of
+squares >= 0, counts whole and >= 0, axes increasing).
+
+Testing hook.  With the environment variable HMFDIFF_TEST_HOLD="before:GLOB" (or
+"after:GLOB", several separated by commas), a write whose target matches GLOB announces
+"hmfdiff test hold ..." on stderr just before (after) the rename and then waits to be killed:
+the kill-and-restart tests use it to stop a job at a known point without timing guesses.
 """
 
 from __future__ import annotations
 
 import contextlib
 import datetime
+import fnmatch
 import json
 import os
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 ENGINE = "netcdf4"
+CONVENTIONS = "CF-1.10"
+HOLD_ENV = "HMFDIFF_TEST_HOLD"
+PART_SUFFIX = ".part"
+
+#: dimension coordinates that are time axes: they must increase strictly
+TIME_AXES = ("time", "lag", "tau")
+
+#: title of a file when the dataset carries none, by the Snakemake rule that writes it
+DEFAULT_TITLES = {
+    "equilibrium": "Equilibrium state of the HMF model",
+    "orbits": "Action-angle variables and Fourier coefficients of the HMF pendulum",
+    "theory": "Dielectric tensor and Landau / Lenard-Balescu diffusion coefficients",
+    "closed_forms": "Closed forms of Benetti & Marcos (2017): sech^4, two-step, appendix C",
+    "md": "Molecular dynamics: <dJ^2> accumulated per initial-action bin and lag",
+    "fit": "Diffusion coefficients fitted to the molecular-dynamics <dJ^2>(dt)",
+}
 
 __all__ = [
     "ENGINE",
+    "CONVENTIONS",
     "InputFileError",
     "provenance",
     "git_revision",
     "atomic_path",
     "write_dataset",
     "read_dataset",
+    "check_physical",
     "scalar",
 ]
 
 
 class InputFileError(RuntimeError):
-    """A netCDF input that is missing, truncated, corrupt or lacks a required variable."""
+    """A netCDF input that is missing, truncated, corrupt, lacks a required variable or holds
+    physically impossible values."""
 
 
 def git_revision(root=None):
@@ -81,15 +125,32 @@ def _versions():
     }
 
 
+def _history_line(now, revision, history):
+    """'<time> hmfdiff <version> (git <rev>) rule <rule> [wildcards]: <what>'."""
+    from .. import __version__
+    from .runtime import current_job
+
+    job = current_job()
+    if job is not None:
+        wc = ", ".join(f"{k}={v}" for k, v in job.wildcards.items())
+        who = f"rule {job.rule}" + (f" ({wc})" if wc else "")
+    else:
+        who = f"{Path(sys.argv[0]).name or 'python'} (outside Snakemake)"
+    line = f"{now} hmfdiff {__version__} (git {revision}) {who}"
+    return f"{line}: {history}" if history else line
+
+
 def provenance(config_fragment=None, case=None, history=None):
-    """Attributes recording what made a file: config fragment, versions, git revision, time."""
+    """Attributes recording what made a file: config fragment, versions, git revision, time,
+    and a history line with the rule, the package version and the git commit."""
     now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    rev = git_revision()
     attrs = {
         "software_versions": json.dumps(_versions(), sort_keys=True),
-        "git_revision": git_revision(),
+        "git_revision": rev,
         "created": now,
-        "history": f"{now} {history or ' '.join(sys.argv)}",
-        "Conventions": "CF-1.8",
+        "history": _history_line(now, rev, history),
+        "Conventions": CONVENTIONS,
     }
     if case is not None:
         attrs["case"] = case
@@ -98,48 +159,112 @@ def provenance(config_fragment=None, case=None, history=None):
     return attrs
 
 
+def _test_hold(path, moment):
+    """The HMFDIFF_TEST_HOLD hook (see the module docstring); a no-op when the variable is unset."""
+    spec = os.environ.get(HOLD_ENV, "")
+    for item in filter(None, spec.split(",")):
+        when, _, pattern = item.partition(":")
+        if when == moment and fnmatch.fnmatch(str(path), pattern):
+            print(f"hmfdiff test hold {moment} rename: {path}", file=sys.stderr, flush=True)
+            deadline = time.monotonic() + 900.0
+            while time.monotonic() < deadline:
+                time.sleep(0.1)
+            raise RuntimeError(f"{HOLD_ENV}: held {path} for 900 s and nobody killed the job")
+
+
+def _glob_escape(name):
+    """`name` with the glob metacharacters *, ?, [ made literal."""
+    return "".join(f"[{c}]" if c in "*?[" else c for c in name)
+
+
+def _stale_parts(path):
+    """Temporary files of earlier writers of `path` (mkstemp: 8 random characters)."""
+    return list(path.parent.glob(f".{_glob_escape(path.name)}.{'?' * 8}{PART_SUFFIX}"))
+
+
 @contextlib.contextmanager
 def atomic_path(path):
-    """Yield a temporary path beside `path`; rename it onto `path` only if the block succeeds."""
+    """Yield a temporary path beside `path`; rename it onto `path` only if the block succeeds.
+
+    Temporary files that a killed writer of the same target left behind are deleted first;
+    the temporary file is deleted if the block fails.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    for stale in _stale_parts(path):
+        stale.unlink(missing_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=PART_SUFFIX, dir=path.parent)
     os.close(fd)
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600 files; results are meant to be shared
     try:
         yield Path(tmp)
+        _test_hold(path, "before")
         os.replace(tmp, path)
+        _test_hold(path, "after")
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
 
 
-def write_dataset(ds, path, config_fragment=None, case=None, history=None):
-    """Write `ds` to netCDF atomically, adding provenance attributes.
+def _missing_metadata(ds):
+    return [
+        name
+        for name, var in ds.variables.items()
+        if not (str(var.attrs.get("units", "")).strip() and var.attrs.get("long_name"))
+    ]
 
-    Complex variables are refused (netCDF has no complex type); coordinates get no _FillValue.
+
+def write_dataset(ds, path, config_fragment=None, case=None, history=None, title=None):
+    """Write `ds` to netCDF atomically, with checksums and provenance attributes.
+
+    Refused (ValueError, before anything is written): complex variables (netCDF has no complex
+    type) and variables without `units` and `long_name`.  Coordinates get no _FillValue; every
+    variable with a dimension gets a Fletcher-32 checksum.  The title is `title`, else the
+    dataset's own, else the default of the writing rule.
     """
     for name, var in ds.variables.items():
         if np.iscomplexobj(var.values):
             raise TypeError(f"variable {name!r} is complex: store real and imaginary parts")
+    missing = _missing_metadata(ds)
+    if missing:
+        raise ValueError(
+            f"{path}: variable(s) {missing} lack 'units' or 'long_name' "
+            "(every netCDF variable carries both; use units '1' for pure numbers)"
+        )
     ds = ds.copy()
     ds.attrs.update(provenance(config_fragment, case=case, history=history))
-    encoding = {name: {"_FillValue": None} for name in ds.coords}
-    for name in ds.data_vars:
-        if ds[name].dtype.kind == "f":
-            encoding[name] = {"_FillValue": np.nan}
+    ds.attrs["title"] = title or ds.attrs.get("title") or _default_title(path)
+    encoding = {}
+    for name, var in ds.variables.items():
+        enc = {}
+        if name in ds.coords:
+            enc["_FillValue"] = None
+        elif var.dtype.kind == "f":
+            enc["_FillValue"] = np.nan
+        if var.ndim > 0:
+            enc["fletcher32"] = True  # HDF5 stores it chunked; a scalar has no checksum
+        encoding[name] = enc
     with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, engine=ENGINE, encoding=encoding)
     return Path(path)
 
 
+def _default_title(path):
+    from .runtime import current_job
+
+    job = current_job()
+    rule = job.rule if job is not None else None
+    return DEFAULT_TITLES.get(rule, f"hmfdiff output {Path(path).name}")
+
+
 def read_dataset(path, required=()):
     """Load a netCDF file fully into memory and close it.
 
-    Raises InputFileError naming the file when it is missing, unreadable (truncated, corrupt)
-    or lacks one of the `required` variables.
+    Raises InputFileError naming the file when it is missing, unreadable (truncated, corrupt:
+    a failed checksum), lacks one of the `required` variables, or fails the generic sanity
+    checks of the module docstring (naming the variable).
     """
     path = Path(path)
     if not path.exists():
@@ -152,9 +277,92 @@ def read_dataset(path, required=()):
             f"{path}: not a readable netCDF file ({type(exc).__name__}: {exc}); "
             "it may be truncated or corrupt: delete it and rerun the rule that makes it"
         ) from exc
+    ds.encoding["source"] = str(path)
     missing = [v for v in required if v not in ds.variables]
     if missing:
         raise InputFileError(f"{path}: missing variable(s) {missing}")
+    _check_generic(ds, path)
+    return ds
+
+
+def _bad(path, name, what, values, index):
+    idx = np.unravel_index(int(index), np.shape(values)) if np.ndim(values) else ()
+    value = np.asarray(values)[idx] if np.ndim(values) else values
+    return InputFileError(
+        f"{path}: variable {name!r} {what} (value {value!r} at index {tuple(map(int, idx))}); "
+        "the file is corrupt or was written by a faulty run: delete it and rerun the rule "
+        "that makes it"
+    )
+
+
+def _check_generic(ds, path):
+    """CF sanity: monotonic dimension coordinates, increasing time axes, valid ranges."""
+    for name in ds.dims:
+        if name not in ds.coords or ds[name].ndim != 1 or ds[name].dtype.kind not in "iuf":
+            continue
+        x = ds[name].values
+        if x.size < 2:
+            continue
+        d = np.diff(x)
+        ok = d > 0 if (name in TIME_AXES or d[0] > 0) else d < 0
+        if not np.all(ok):
+            what = "is not strictly increasing" if name in TIME_AXES else "is not monotonic"
+            raise _bad(path, name, what, x, np.flatnonzero(~ok)[0] + 1)
+    for name, var in ds.variables.items():
+        lo, hi = _valid_range(var.attrs)
+        if (lo is None and hi is None) or var.dtype.kind not in "iuf":
+            continue
+        v = var.values
+        out = np.zeros(v.shape, dtype=bool)
+        if lo is not None:
+            out |= v < lo
+        if hi is not None:
+            out |= v > hi
+        if np.any(out):
+            raise _bad(path, name, f"lies outside its valid range [{lo}, {hi}]", v, np.argmax(out))
+
+
+def _valid_range(attrs):
+    if "valid_range" in attrs:
+        lo, hi = np.asarray(attrs["valid_range"], dtype=float)[:2]
+        return lo, hi
+    return attrs.get("valid_min"), attrs.get("valid_max")
+
+
+def check_physical(ds, *, sums_of_squares=(), counts=(), increasing=(), nonnegative=()):
+    """Refuse physically impossible values, naming the file (ds.encoding['source']) and variable.
+
+    sums_of_squares: finite and >= 0; counts: finite whole numbers >= 0; increasing: finite
+    and strictly increasing (1-d); nonnegative: >= 0 where not NaN (NaN marks masked values),
+    never infinite.  Variables absent from `ds` are skipped.  Returns `ds`.
+    """
+    path = ds.encoding.get("source", "<dataset not read from a file>")
+    for name in sums_of_squares:
+        if name in ds.variables:
+            v = np.asarray(ds[name].values, dtype=float)
+            bad = ~np.isfinite(v) | (v < 0)
+            if bad.any():
+                what = "is a sum of squares but negative or not finite"
+                raise _bad(path, name, what, v, np.argmax(bad))
+    for name in counts:
+        if name in ds.variables:
+            v = np.asarray(ds[name].values, dtype=float)
+            bad = ~np.isfinite(v) | (v < 0) | (v != np.round(v))
+            if bad.any():
+                raise _bad(path, name, "is a count but not a whole number >= 0", v, np.argmax(bad))
+    for name in increasing:
+        if name in ds.variables:
+            v = np.asarray(ds[name].values, dtype=float).ravel()
+            bad = ~np.isfinite(v)
+            bad[1:] |= ~(np.diff(v) > 0)
+            if bad.any():
+                raise _bad(path, name, "is not finite and strictly increasing", v, np.argmax(bad))
+    for name in nonnegative:
+        if name in ds.variables:
+            v = np.asarray(ds[name].values, dtype=float)
+            bad = np.isinf(v) | (v < 0)
+            if bad.any():
+                raise _bad(path, name, "is negative or infinite", v, np.argmax(bad))
     return ds
 
 
