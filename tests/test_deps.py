@@ -8,7 +8,7 @@ import re
 from pathlib import Path
 
 import pytest
-from _smoke import ROOT, SMOKE, job_counts, smoke_workdir, snakemake
+from _smoke import ROOT, SMOKE, copy_workflow, job_counts, smoke_workdir, snakemake
 
 from hmfdiff.pipeline.deps import library_files
 
@@ -109,6 +109,26 @@ def rule_scripts():
             if s:
                 found[m.group(1)] = ROOT / "workflow/scripts" / s.group(1)
     return found
+
+
+def test_every_job_watches_exactly_the_modules_its_script_imports(tmp_path):
+    """In a dry run of the whole smoke workflow, the src/hmfdiff inputs of every job of every
+    rule with a script are the files modulefinder finds from that script.  (A rule downstream
+    of another that imports a superset would hide an omission from the edit test below.)"""
+    workdir = copy_workflow(tmp_path)
+    r = snakemake(["-n", "--configfile", SMOKE], workdir)
+    assert r.returncode == 0, r.stderr[-3000:]
+    rules = rule_scripts()
+    seen = set()
+    for m in re.finditer(r"^rule (\w+):\n((?:    .*\n)+)", r.stdout + r.stderr, re.M):
+        rule, block = m.groups()
+        if rule not in rules:
+            continue
+        inputs = re.search(r"^    input: (.*)$", block, re.M).group(1).split(", ")
+        watched = sorted(f for f in inputs if f.startswith("src/hmfdiff/"))
+        assert watched == modulefinder_files(rules[rule]), rule
+        seen.add(rule)
+    assert seen == set(rules), set(rules) - seen
 
 
 @pytest.fixture(scope="module")
