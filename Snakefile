@@ -52,6 +52,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/md_helpers.smk"
 include: "workflow/rules/figure_helpers.smk"
 include: "workflow/rules/relaxation_helpers.smk"
+include: "workflow/rules/relaxation_md_helpers.smk"
 include: "workflow/rules/equilibrium.smk"
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/theory.smk"
@@ -59,6 +60,7 @@ include: "workflow/rules/analytic.smk"
 include: "workflow/rules/md.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/relaxation.smk"
+include: "workflow/rules/relaxation_md.smk"
 
 
 rule all:
@@ -70,4 +72,6 @@ rule all:
         expand("results/analytic/{case}.nc", case=CASES),
         "results/validation.csv",
         relaxation_files(),
+        relaxation_md_files(),
+        relaxation_comparison_outputs(),
         figure_targets(),

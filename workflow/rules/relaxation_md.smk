@@ -19,3 +19,27 @@ rule relaxation_md:
         run=lambda w: relaxation_md_run(w.case),
     script:
         "../scripts/relaxation_md.py"
+
+
+rule relaxation_comparison:
+    """N-body relaxation against the kinetic evolutions at matched t/N; relaxation time vs N."""
+    input:
+        unpack(relaxation_comparison_inputs),
+    output:
+        table="results/relaxation_comparison.csv",
+        summary="results/relaxation_comparison_summary.txt",
+        datasets=[
+            f"results/relaxation_comparison/{c}.nc" for c in relaxation_md_cases()
+        ],
+    log:
+        "logs/relaxation_comparison.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=15,
+    params:
+        cases=relaxation_md_cases(),
+    script:
+        "../scripts/relaxation_comparison.py"

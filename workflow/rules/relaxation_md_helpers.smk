@@ -30,3 +30,25 @@ def relaxation_md_runtime_min(case, n):
     rmd = config["relaxation_md"]
     steps = rmd["particles_per_size"] * rmd["tau_max"] * int(n) / rmd["dt"]
     return int(10 + steps / 1e8 / 60 * 2)
+
+
+def relaxation_comparison_inputs(wildcards=None):
+    """Every ensemble, and the kinetic evolutions and initial state of every case."""
+    cases = relaxation_md_cases()
+    equations = config.get("relaxation", {}).get("equations", [])
+    return {
+        "md": relaxation_md_files(),
+        "kinetic": [f"results/relaxation/{c}_{e}.nc" for c in cases for e in equations],
+        "equilibrium": [f"results/equilibrium/{c}.nc" for c in cases],
+        "lib": lib("relaxation_comparison.py"),
+    }
+
+
+def relaxation_comparison_outputs():
+    cases = relaxation_md_cases()
+    if not cases:
+        return []
+    return [
+        "results/relaxation_comparison.csv",
+        "results/relaxation_comparison_summary.txt",
+    ] + [f"results/relaxation_comparison/{c}.nc" for c in cases]

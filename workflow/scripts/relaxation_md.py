@@ -20,7 +20,7 @@ state = state_from_dataset(read_dataset(sm.input.equilibrium, required=["M0"]))
 n = int(sm.wildcards.n)
 n_real = max(1, run["particles_per_size"] // n)
 t_max = run["tau_max"] * n
-times = measurement_times(t_max, run["n_times"], run["dt"])
+times = measurement_times(t_max, run["n_times"], run["dt"], t_first=run["tau_first"] * n)
 edges = np.linspace(
     0.0, float(orbits.rescaled_action(run["kappa_max"], state.M0)), run["n_bins"] + 1
 )

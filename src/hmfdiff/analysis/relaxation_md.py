@@ -96,3 +96,40 @@ def power_law_fit(n, tau, tau_err=None):
     if tau_err is None:
         cov = cov * float(np.sum(resid**2) / dof)
     return float(coef[1]), float(np.sqrt(cov[1, 1])), float(np.exp(coef[0]))
+
+
+def kinetic_bin_fractions(jbar, width, f, edges):
+    """Fractions of particles of a kinetic f on J-bar nodes (cells of width `width` around
+    each node, phase volume 4 pi width) in the bins `edges`: the cumulative mass at the cell
+    faces, interpolated linearly at the edges.  f may carry leading axes (e.g. tau)."""
+    jbar = np.asarray(jbar, dtype=float)
+    width = np.asarray(width, dtype=float)
+    f = np.asarray(f, dtype=float)
+    lo = jbar[0] - (width[0] - 0.5 * (jbar[1] - jbar[0]))  # first cell ends half-way to node 1
+    faces = lo + np.concatenate([[0.0], np.cumsum(width)])
+    mass = PHASE_VOLUME_PER_JBAR * width * f
+    cum = np.concatenate([np.zeros(f.shape[:-1] + (1,)), np.cumsum(mass, axis=-1)], axis=-1)
+    e = np.asarray(edges, dtype=float)
+    at = np.apply_along_axis(lambda c: np.interp(e, faces, c), -1, cum)
+    return np.diff(at, axis=-1)
+
+
+def interpolate_in_time(t_src, values, t):
+    """Values (time along axis 0) interpolated linearly at times t; constant beyond the ends."""
+    values = np.asarray(values, dtype=float)
+    flat = values.reshape(values.shape[0], -1)
+    out = np.stack([np.interp(t, t_src, flat[:, j]) for j in range(flat.shape[1])], axis=-1)
+    return out.reshape((np.size(t),) + values.shape[1:])
+
+
+def jackknife(values_per_group, estimator):
+    """Estimate and jackknife standard error of `estimator` over groups (axis 0 of the input),
+    leaving one group out at a time."""
+    v = np.asarray(values_per_group)
+    g = v.shape[0]
+    full = np.asarray(estimator(v))
+    if g < 2:
+        return full, np.full(full.shape, np.nan)
+    loo = np.stack([np.asarray(estimator(np.delete(v, k, axis=0))) for k in range(g)])
+    err = np.sqrt((g - 1) / g * np.sum((loo - loo.mean(axis=0)) ** 2, axis=0))
+    return full, err

@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 
 from .md_figures import fig08_dj2, fig09_md_thermal, fig10_md_corehalo
 from .orbit_figures import fig01_orbits, fig02_action_frequency, fig03_poles
+from .relaxation_md_figures import fig12_relaxation_md, fig13_relaxation_time
 from .theory_figures import (
     fig04_contributions,
     fig05_dielectric,
@@ -150,6 +151,7 @@ _FIT_FULL = Inputs("fit_full", "fits/{case}_full.nc")
 _ORBIT_CAT = "1. Mean-field orbits (figures 1-3)"
 _THEORY_CAT = "2. Kinetic theory (figures 4-7)"
 _MD_CAT = "3. Molecular dynamics against theory (figures 8-10)"
+_RELAX_CAT = "4. Relaxation (figures 11-15)"
 
 _FIGURE_LIST = (
     Figure(
@@ -254,6 +256,31 @@ _FIGURE_LIST = (
         "Fig. 10 (fig:hmfch): the same for the core-halo state ch2* (beta1 = 30, beta2 = 10, "
         "eta1 = 0.298, eta2 = 0.051, mu1 = -0.517, mu2 = 0.19, M0 = 0.8).",
         _MD_CAT,
+    ),
+    Figure(
+        "fig12_relaxation_md",
+        "fig12",
+        fig12_relaxation_md,
+        (Inputs("relaxation_comparison", "relaxation_comparison/{case}.nc"),),
+        "Fig. 12: collisional relaxation in N-body (full dynamics, eq. hmfmdfull; ensembles of "
+        "independent realisations at several N) against the Lenard-Balescu and Landau "
+        "evolutions (eq. hmflb) at matched rescaled time t/N: (a) mean |M| with its standard "
+        "error, (b) coarse-grained entropy of the J-bar histogram (dotted: the thermal state of "
+        "the same energy), (c) distance sum_b |P_b(MD) - P_b(LB)| between the binned f with its "
+        "jackknife error and the distance expected from sampling noise alone (dotted), (d) "
+        "f(J-bar) snapshots of the largest N (points) and Lenard-Balescu (lines).",
+        _RELAX_CAT,
+    ),
+    Figure(
+        "fig13_relaxation_time",
+        "fig13",
+        fig13_relaxation_time,
+        (Inputs("relaxation_comparison", "relaxation_comparison/{case}.nc"),),
+        "Fig. 13: relaxation time t_R of the N-body ensembles (coarse-grained entropy deficit "
+        "S_eq - S fallen by e) against N on log axes, with the fitted power law and its "
+        "exponent, and the kinetic predictions t_R = tau_R N of the Lenard-Balescu and Landau "
+        "equations (same definition on the same bins).",
+        _RELAX_CAT,
     ),
 )
 

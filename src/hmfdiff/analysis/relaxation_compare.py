@@ -1,0 +1,332 @@
+"""N-body relaxation ensembles against the kinetic evolutions, at matched rescaled time t/N.
+
+Everything is compared in the same coarse-graining: the J-bar bins of the MD histograms.  The
+kinetic f(J-bar, tau) is integrated over those bins (`kinetic_bin_fractions`) and interpolated
+in tau at the MD's t/N; entropies are the coarse-grained -sum P_b ln(P_b / (4 pi dJbar_b)) for
+both; the equilibrium reference is the thermal state of the initial state's energy u0 (the
+end point of both kinetic equations), binned the same way.
+
+Relaxation time: the time at which the coarse-grained entropy deficit S_eq - S has fallen to
+1/e of its initial value (the kinetic module's definition, on the binned f).  Errors of MD
+quantities come from the spread between groups of realisations (jackknife).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from ..pipeline.layouts import variable
+from .relaxation_md import (
+    PHASE_VOLUME_PER_JBAR,
+    interpolate_in_time,
+    jackknife,
+    kinetic_bin_fractions,
+    l1_distance,
+    power_law_fit,
+    relaxation_time,
+    state_bin_fractions,
+)
+
+__all__ = ["compare_relaxation", "summary_lines", "COMPARISON_COLUMNS"]
+
+N_GROUPS = 10  # groups of realisations for jackknife errors
+
+COMPARISON_COLUMNS = [
+    "case",
+    "n_particles",
+    "time",
+    "tau",
+    "M_md",
+    "M_md_err",
+    "M_lenard_balescu",
+    "M_landau",
+    "S_md",
+    "S_md_err",
+    "S_lenard_balescu",
+    "S_landau",
+    "distance_lenard_balescu",
+    "distance_lenard_balescu_err",
+    "distance_landau",
+    "distance_landau_err",
+    "distance_noise_floor",
+]
+
+
+def _coarse_entropy(P, edges):
+    f = P / (PHASE_VOLUME_PER_JBAR * np.diff(edges))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return -np.sum(np.where(P > 0, P * np.log(np.where(P > 0, f, 1.0)), 0.0), axis=-1)
+
+
+def _groups(hist, overflow, n_groups):
+    """Sum realisations into n_groups groups: (G, T, B + 1) counts, the last bin the overflow
+    beyond the last edge (so that a group left out takes its overflow with it)."""
+    R = hist.shape[1]
+    g = min(n_groups, R)
+    idx = np.arange(R) % g
+    counts = np.concatenate([hist, overflow[..., None]], axis=-1).astype(float)
+    return np.stack([counts[:, idx == k].sum(axis=1) for k in range(g)])
+
+
+def _pooled_P(G):
+    """Fractions per bin of the groups' pooled counts (overflow counted in the total)."""
+    total = G.sum(axis=(0, -1))
+    return G[..., :-1].sum(axis=0) / np.maximum(total, 1.0)[..., None]
+
+
+def compare_relaxation(md, kinetic, state, thermal):
+    """Compare the ensembles `md` (list of relaxation_md datasets of one case, any N) with
+    the kinetic evolutions `kinetic` ({equation: relaxation dataset}).
+
+    state: the initial state; thermal: the thermal state of its energy.  Returns (dataset,
+    rows for the CSV, summary dict)."""
+    md = sorted(md, key=lambda d: int(d.attrs["n_particles"]))
+    edges = np.asarray(md[0]["jbar_edges"].values, dtype=float)
+    for d in md[1:]:
+        if not np.array_equal(d["jbar_edges"].values, edges):
+            raise ValueError("the ensembles of one case must share their J-bar bins")
+    P_eq = state_bin_fractions(thermal, edges)
+    S_eq = float(_coarse_entropy(P_eq, edges))
+    P_0 = state_bin_fractions(state, edges)
+    kin = {}
+    for eq, ds in kinetic.items():
+        Pk = kinetic_bin_fractions(
+            ds["Jbar"].values, ds["cell_width"].values, ds["f"].values, edges
+        )
+        tau_k = ds["tau"].values
+        Sk = _coarse_entropy(Pk, edges)
+        kin[eq] = {
+            "tau": tau_k,
+            "P": Pk,
+            "M0": ds["M0"].values,
+            "S": Sk,
+            "tau_relax": relaxation_time(tau_k, S_eq - Sk),
+        }
+    rows, per_n = [], []
+    for d in md:
+        n = int(d.attrs["n_particles"])
+        t = d["time"].values
+        tau = t / n
+        G = _groups(d["hist"].values, d["overflow"].values, N_GROUPS)
+        P_md, P_err = jackknife(G, _pooled_P)
+        S_md, S_err = jackknife(G, lambda g: _coarse_entropy(_pooled_P(g), edges))
+        M = d["M_abs"].values
+        M_md, M_err = M.mean(axis=1), M.std(axis=1, ddof=1) / np.sqrt(M.shape[1])
+        t_relax, t_relax_err = jackknife(
+            G, lambda g, t=t: relaxation_time(t, S_eq - _coarse_entropy(_pooled_P(g), edges))
+        )
+        floor = np.sqrt(2.0 / np.pi) * P_err.sum(axis=-1)
+        cols = {"M": {}, "S": {}, "d": {}, "d_err": {}, "P": {}}
+        for eq, k in kin.items():
+            Pk = interpolate_in_time(k["tau"], k["P"], tau)
+            cols["P"][eq] = Pk
+            cols["M"][eq] = np.interp(tau, k["tau"], k["M0"])
+            cols["S"][eq] = np.interp(tau, k["tau"], k["S"])
+            dist, dist_err = jackknife(G, lambda g, Pk=Pk: l1_distance(_pooled_P(g), Pk))
+            cols["d"][eq], cols["d_err"][eq] = dist, dist_err
+        for j in range(t.size):
+            row = {
+                "case": d.attrs["case"],
+                "n_particles": n,
+                "time": t[j],
+                "tau": tau[j],
+                "M_md": M_md[j],
+                "M_md_err": M_err[j],
+                "S_md": S_md[j],
+                "S_md_err": S_err[j],
+                "distance_noise_floor": floor[j],
+            }
+            for eq in ("lenard_balescu", "landau"):
+                row[f"M_{eq}"] = cols["M"][eq][j] if eq in kin else np.nan
+                row[f"S_{eq}"] = cols["S"][eq][j] if eq in kin else np.nan
+                row[f"distance_{eq}"] = cols["d"][eq][j] if eq in kin else np.nan
+                row[f"distance_{eq}_err"] = cols["d_err"][eq][j] if eq in kin else np.nan
+            rows.append(row)
+        per_n.append(
+            dict(
+                n=n,
+                tau=tau,
+                t=t,
+                P_md=P_md,
+                P_err=P_err,
+                S_md=S_md,
+                S_err=S_err,
+                M_md=M_md,
+                M_err=M_err,
+                t_relax=float(t_relax),
+                t_relax_err=float(t_relax_err),
+                cols=cols,
+                floor=floor,
+            )
+        )
+    ns = np.array([p["n"] for p in per_n], dtype=float)
+    tr = np.array([p["t_relax"] for p in per_n])
+    tr_err = np.array([p["t_relax_err"] for p in per_n])
+    ok = np.isfinite(tr) & np.isfinite(tr_err) & (tr_err > 0)
+    if ok.sum() >= 2:
+        alpha, alpha_err, amp = power_law_fit(ns[ok], tr[ok], tr_err[ok])
+    else:
+        alpha = alpha_err = amp = np.nan
+    summary = {
+        "case": md[0].attrs["case"],
+        "S_eq_coarse": S_eq,
+        "exponent": alpha,
+        "exponent_err": alpha_err,
+        "prefactor": amp,
+        "tau_relax_kinetic": {eq: k["tau_relax"] for eq, k in kin.items()},
+        "t_relax_md": dict(zip(ns.astype(int).tolist(), tr.tolist(), strict=True)),
+        "t_relax_md_err": dict(zip(ns.astype(int).tolist(), tr_err.tolist(), strict=True)),
+    }
+    ds = _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary)
+    return ds, rows, summary
+
+
+def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
+    """All N on the tau grid of the first ensemble (the schedules are the same in t/N)."""
+    tau = per_n[0]["tau"]
+    ns = [p["n"] for p in per_n]
+    a1 = "action (dimensionless HMF units)"
+
+    def on_grid(key, p):
+        return (
+            np.interp(tau, p["tau"], p[key])
+            if p[key].ndim == 1
+            else interpolate_in_time(p["tau"], p[key], tau)
+        )
+
+    data = {
+        "M_md": variable(
+            ("N", "tau"), np.stack([on_grid("M_md", p) for p in per_n]), "1", "ensemble mean of |M|"
+        ),
+        "M_md_err": variable(
+            ("N", "tau"),
+            np.stack([on_grid("M_err", p) for p in per_n]),
+            "1",
+            "standard error of the ensemble mean of |M|",
+        ),
+        "S_md": variable(
+            ("N", "tau"),
+            np.stack([on_grid("S_md", p) for p in per_n]),
+            "1",
+            "coarse-grained entropy of the pooled MD histogram",
+        ),
+        "S_md_err": variable(
+            ("N", "tau"),
+            np.stack([on_grid("S_err", p) for p in per_n]),
+            "1",
+            "jackknife error of S_md",
+        ),
+        "P_md": variable(
+            ("N", "tau", "jbar"),
+            np.stack([on_grid("P_md", p) for p in per_n]),
+            "1",
+            "fraction of particles per J-bar bin (MD, pooled)",
+        ),
+        "P_md_err": variable(
+            ("N", "tau", "jbar"),
+            np.stack([on_grid("P_err", p) for p in per_n]),
+            "1",
+            "jackknife error of P_md",
+        ),
+        "P_thermal": variable(
+            ("jbar",), P_eq, "1", "fraction per bin of the thermal state of energy u0"
+        ),
+        "P_initial": variable(("jbar",), P_0, "1", "fraction per bin of the initial state"),
+        "t_relax_md": variable(
+            ("N",),
+            [p["t_relax"] for p in per_n],
+            "time",
+            "MD relaxation time: coarse-grained entropy deficit fallen by e (HMF time)",
+        ),
+        "t_relax_md_err": variable(
+            ("N",), [p["t_relax_err"] for p in per_n], "time", "jackknife error of t_relax_md"
+        ),
+        "S_thermal": variable(
+            (),
+            summary["S_eq_coarse"],
+            "1",
+            "coarse-grained entropy of the thermal state of energy u0",
+        ),
+    }
+    for eq, k in kin.items():
+        data[f"M_{eq}"] = variable(
+            ("tau",), np.interp(tau, k["tau"], k["M0"]), "1", f"M0(tau) of the {eq} evolution"
+        )
+        data[f"S_{eq}"] = variable(
+            ("tau",),
+            np.interp(tau, k["tau"], k["S"]),
+            "1",
+            f"coarse-grained entropy of the {eq} evolution",
+        )
+        data[f"P_{eq}"] = variable(
+            ("tau", "jbar"),
+            interpolate_in_time(k["tau"], k["P"], tau),
+            "1",
+            f"fraction per J-bar bin of the {eq} evolution",
+        )
+        data[f"tau_relax_{eq}"] = variable(
+            (),
+            k["tau_relax"],
+            "time / N",
+            f"{eq} relaxation time (coarse-grained entropy deficit / e), in tau = t/N",
+        )
+        data[f"distance_{eq}"] = variable(
+            ("N", "tau"),
+            np.stack([np.interp(tau, p["tau"], p["cols"]["d"][eq]) for p in per_n]),
+            "1",
+            f"sum_b |P_md - P_{eq}| at matched t/N",
+        )
+        data[f"distance_{eq}_err"] = variable(
+            ("N", "tau"),
+            np.stack([np.interp(tau, p["tau"], p["cols"]["d_err"][eq]) for p in per_n]),
+            "1",
+            "jackknife error of the distance",
+        )
+    data["distance_noise_floor"] = variable(
+        ("N", "tau"),
+        np.stack([np.interp(tau, p["tau"], p["floor"]) for p in per_n]),
+        "1",
+        "expected distance from sampling noise alone: sqrt(2/pi) sum_b err(P_b)",
+    )
+    ds = xr.Dataset(
+        data,
+        coords={
+            "N": variable(("N",), ns, "1", "number of particles"),
+            "tau": variable(("tau",), tau, "time / N", "rescaled time tau = t/N"),
+            "jbar": variable(
+                ("jbar",), 0.5 * (edges[1:] + edges[:-1]), a1, "centre of the J-bar bin"
+            ),
+            "jbar_edges": variable(("jbar_edge",), edges, a1, "edges of the J-bar bins"),
+        },
+    )
+    ds.attrs.update(
+        {
+            "title": f"N-body relaxation against the kinetic equations, case {summary['case']}",
+            "case": summary["case"],
+            "exponent": summary["exponent"],
+            "exponent_err": summary["exponent_err"],
+            "exponent_definition": "t_relax_md = A N^exponent, weighted least squares in log-log",
+            "prefactor": summary["prefactor"],
+        }
+    )
+    return ds
+
+
+def summary_lines(summary):
+    """Human-readable lines of a comparison summary."""
+    out = [
+        f"case {summary['case']}: coarse-grained thermal S = {summary['S_eq_coarse']:.5f}"
+    ]
+    for eq, tau in summary["tau_relax_kinetic"].items():
+        out.append(f"  {eq}: tau_R = {tau:.4g} (t_R = tau_R N)")
+    for n, t in summary["t_relax_md"].items():
+        err = summary["t_relax_md_err"][n]
+        ratio = {eq: t / (tau * n) for eq, tau in summary["tau_relax_kinetic"].items()}
+        rs = ", ".join(f"t_R/(tau_R N) = {r:.3f} ({eq})" for eq, r in ratio.items())
+        out.append(f"  MD N = {n}: t_R = {t:.4g} +- {err:.2g}, tau = t_R/N = {t / n:.4g}; {rs}")
+    out.append(
+        f"  exponent of t_R = A N^alpha: alpha = {summary['exponent']:.3f} +- "
+        f"{summary['exponent_err']:.3f} (kinetic theory at order 1/N: alpha = 1)"
+    )
+    return out

@@ -1,0 +1,39 @@
+"""Rule relaxation_comparison: the N-body ensembles of every case against its kinetic
+evolutions (results/relaxation_comparison.csv, _summary.txt, relaxation_comparison/{case}.nc)."""
+
+import csv
+import os
+
+from hmfdiff.analysis.relaxation_compare import (
+    COMPARISON_COLUMNS,
+    compare_relaxation,
+    summary_lines,
+)
+from hmfdiff.meanfield.equilibrium import ThermalState
+from hmfdiff.pipeline.io import atomic_path, read_dataset, write_dataset
+from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.runtime import get_logger
+
+sm = snakemake  # noqa: F821
+log = get_logger("relaxation_comparison", sm.log[0])
+md = [read_dataset(p, required=["hist", "M_abs"]) for p in sm.input.md]
+kinetic = [read_dataset(p, required=["f", "M0", "tau"]) for p in sm.input.kinetic]
+rows, lines = [], []
+for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
+    state = state_from_dataset(
+        read_dataset(next(p for p in sm.input.equilibrium if os.path.basename(p) == f"{case}.nc"))
+    )
+    ens = [d for d in md if d.attrs["case"] == case]
+    kin = {d.attrs["equation"]: d for d in kinetic if d.attrs["case"] == case}
+    ds, case_rows, summary = compare_relaxation(ens, kin, state, ThermalState(u=state.u))
+    write_dataset(ds, out, {"cases": sm.params.cases}, case=case)
+    rows += case_rows
+    lines += summary_lines(summary)
+with atomic_path(sm.output.table) as tmp, open(tmp, "w", newline="") as fh:
+    w = csv.DictWriter(fh, fieldnames=COMPARISON_COLUMNS)
+    w.writeheader()
+    w.writerows(rows)
+with atomic_path(sm.output.summary) as tmp:
+    tmp.write_text("\n".join(lines) + "\n")
+for line in lines:
+    log.info(line)
