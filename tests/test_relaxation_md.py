@@ -1,0 +1,134 @@
+"""Tests of the N-body relaxation analysis (analysis.relaxation_md, analysis.relaxation_compare):
+histogram densities and entropies against the states they sample, the binning of a kinetic f,
+relaxation times and power laws on synthetic data of known answer, and the whole comparison on
+synthetic ensembles drawn from a known evolution f(J-bar, t/N)."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from hmfdiff.analysis import relaxation_md as rm
+from hmfdiff.analysis.relaxation_compare import compare_relaxation
+from hmfdiff.dynamics import sampling
+from hmfdiff.meanfield import orbits
+from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState
+
+HOT = dict(eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0)
+
+
+def test_histogram_of_a_sample_estimates_the_state():
+    """J-bar of particles sampled from a thermal state, binned: fractions agree with the exact
+    CDF (chi-square), and the histogram entropy with the coarse-grained entropy of the state."""
+    st = ThermalState(M0=0.7)
+    rng = np.random.default_rng(3)
+    th, p = sampling.sample_state(st, 200000, rng)
+    kappa = np.sqrt(p**2 / (4 * st.M0) + np.sin(0.5 * th) ** 2)
+    jbar = orbits.rescaled_action(kappa, st.M0)
+    edges = np.linspace(0.0, 2.5, 26)
+    hist = np.histogram(jbar, edges)[0]
+    over = int(np.sum(jbar >= edges[-1]))
+    P = rm.bin_fractions(hist, over)
+    Q = rm.state_bin_fractions(st, edges)
+    chi2 = np.sum((P - Q) ** 2 * hist.sum() / Q)
+    assert chi2 < 60  # 25 bins: chi2 ~ 25 +- 7
+    S_hist = rm.entropy_from_histogram(hist, edges, over)
+    S_state = -np.sum(Q * np.log(Q / (4 * np.pi * np.diff(edges))))
+    assert S_hist == pytest.approx(S_state, abs=3e-3)
+
+
+def test_kinetic_bin_fractions_integrate_the_density():
+    """f = exp(-J-bar)/(4 pi) on nodes: the mass in [a, b] is exp(-a) - exp(-b)."""
+    j = np.linspace(0.0, 3.0, 301)
+    w = np.full(j.size, j[1] - j[0])
+    w[0] = w[-1] = 0.5 * (j[1] - j[0])
+    f = np.exp(-j) / (4 * np.pi)
+    edges = np.array([0.0, 0.5, 1.0, 2.0, 3.0])
+    P = rm.kinetic_bin_fractions(j, w, np.stack([f, 2 * f]), edges)
+    exact = np.exp(-edges[:-1]) - np.exp(-edges[1:])
+    np.testing.assert_allclose(P[0], exact, rtol=2e-4)
+    np.testing.assert_allclose(P[1], 2 * exact, rtol=2e-4)
+
+
+def test_relaxation_time_and_power_law_on_known_data():
+    t = np.linspace(0.0, 50.0, 501)
+    assert rm.relaxation_time(t, 3.0 * np.exp(-t / 7.0)) == pytest.approx(7.0, rel=1e-3)
+    assert rm.relaxation_time(t, 1.0 + 2.0 * np.exp(-t / 7.0), floor=1.0) == pytest.approx(
+        7.0, rel=1e-3
+    )
+    assert np.isnan(rm.relaxation_time(t, np.ones_like(t)))
+    n = np.array([500.0, 1000.0, 2000.0, 4000.0])
+    alpha, err, amp = rm.power_law_fit(n, 3.0 * n**1.3, 0.01 * 3.0 * n**1.3)
+    assert alpha == pytest.approx(1.3, abs=1e-9) and amp == pytest.approx(3.0, rel=1e-9)
+    assert 0 < err < 0.05
+
+
+def _synthetic_evolution(state, thermal, tau0, jbar_max):
+    """A kinetic-like dataset: f(tau) = (1 - a) f_state + a f_thermal, a = 1 - exp(-tau/tau0)."""
+    j = np.linspace(0.0, jbar_max, 2001)
+    w = np.full(j.size, j[1] - j[0])
+    w[0] = w[-1] = 0.5 * (j[1] - j[0])
+
+    def dens(st):
+        g, c = sampling.jbar_cdf_table(st)
+        return np.gradient(np.interp(j, g, c / c[-1]), j) / (4 * np.pi)
+
+    f0, f1 = dens(state), dens(thermal)
+    tau = np.concatenate([[0.0], np.geomspace(1e-3, 20 * tau0, 200)])
+    a = 1.0 - np.exp(-tau / tau0)
+    f = (1 - a)[:, None] * f0 + a[:, None] * f1
+    M0 = (1 - a) * state.M0 + a * thermal.M0
+    return xr.Dataset(
+        {
+            "f": (("tau", "Jbar"), f),
+            "cell_width": (("Jbar",), w),
+            "M0": (("tau",), M0),
+        },
+        coords={"tau": tau, "Jbar": j},
+        attrs={"case": "hot", "equation": "lenard_balescu"},
+    ), (tau, f, w, j)
+
+
+def _synthetic_ensemble(kin, n, R, edges, times_tau, rng):
+    """Histograms drawn from the synthetic f at t/N, R realisations of n particles."""
+    tau, f, w, j = kin
+    P = rm.kinetic_bin_fractions(j, w, f, edges)
+    P_t = rm.interpolate_in_time(tau, P, times_tau)
+    over = np.clip(1.0 - P_t.sum(axis=-1), 0.0, 1.0)
+    probs = np.concatenate([P_t, over[:, None]], axis=-1)
+    probs /= probs.sum(axis=-1, keepdims=True)
+    counts = np.stack([rng.multinomial(n, probs[k], size=R) for k in range(times_tau.size)])
+    t = times_tau * n
+    return xr.Dataset(
+        {
+            "hist": (("time", "realisation", "jbar"), counts[..., :-1]),
+            "overflow": (("time", "realisation"), counts[..., -1]),
+            "M_abs": (("time", "realisation"), np.full((t.size, R), 0.7)),
+            "jbar_edges": (("jbar_edge",), edges),
+        },
+        coords={"time": t},
+        attrs={"case": "hot", "n_particles": n},
+    )
+
+
+def test_comparison_recovers_a_known_relaxation():
+    """Ensembles drawn from f(J-bar, t/N) itself: the distance to it stays at the noise floor,
+    the MD relaxation time is the kinetic one times N, and the exponent is 1."""
+    state = CoreHaloState(**HOT)
+    thermal = ThermalState(M0=0.7018283971660635)
+    tau0 = 5.0
+    edges = np.linspace(0.0, float(orbits.rescaled_action(3.0, state.M0)), 31)
+    kin_ds, kin = _synthetic_evolution(state, thermal, tau0, 1.2 * edges[-1])
+    rng = np.random.default_rng(11)
+    times_tau = np.concatenate([[0.0], np.geomspace(0.01, 40.0, 40)])
+    md = [_synthetic_ensemble(kin, n, 20, edges, times_tau, rng) for n in (500, 1000, 2000)]
+    ds, rows, summary = compare_relaxation(md, {"lenard_balescu": kin_ds}, state, thermal)
+    tau_kin = summary["tau_relax_kinetic"]["lenard_balescu"]
+    assert np.isfinite(tau_kin)
+    for n, t_r in summary["t_relax_md"].items():
+        err = summary["t_relax_md_err"][n]
+        assert abs(t_r / n - tau_kin) < max(4 * err / n, 0.05 * tau_kin)
+    assert summary["exponent"] == pytest.approx(1.0, abs=max(4 * summary["exponent_err"], 0.05))
+    # drawn from the evolution itself: the distance is the sampling noise at every time
+    ratio = ds["distance_lenard_balescu"].values / ds["distance_noise_floor"].values
+    assert np.mean(ratio) < 1.3 and np.max(ratio) < 3.0
+    assert len(rows) == 3 * times_tau.size
