@@ -100,19 +100,31 @@ def geometry(jbar, M0):
 
 @dataclass(frozen=True)
 class Events:
-    """Resonant pairs of faces (a, b), by test harmonic n, and their bare weights."""
+    """Resonant pairs of faces (a, b) and, per elementary resonance o (a pair of resonant
+    sub-cells over a frequency interval), its event, frequency and bare weights."""
 
-    a: np.ndarray
-    b: np.ndarray
-    n: np.ndarray  # harmonic of the test face (eps is evaluated at n nu_a)
-    bare_cc: np.ndarray  # 16 pi^3 int c_n^2 c'_n'^2 omega^2 (frequency-overlap measure)
-    bare_ss: np.ndarray  # the same with sigma
+    a: np.ndarray  # (E,) test face
+    b: np.ndarray  # (E,) partner face
     C: sparse.csr_matrix  # (E, N-1): X_e = C D
-    P: sparse.csr_matrix  # (E, N): ln F_e = P ln f (ln f at the resonance in both faces)
+    P: sparse.csr_matrix  # (E, N): ln F_e = P ln f (ln f where the resonances sit in a and b)
+    event: np.ndarray  # (O,) event of each elementary resonance
+    omega: np.ndarray  # (O,) its frequency n Omega = n' Omega' (interval midpoint)
+    bare_cc: np.ndarray  # (O,) 16 pi^3 c_n^2 c'_n'^2 int omega^2 rho rho' domega
+    bare_ss: np.ndarray  # (O,) the same with sigma_n^2 sigma'_n'^2
 
     @property
     def size(self):
         return self.a.size
+
+    def weights(self, eps=None):
+        """W_e = sum over the event's resonances of bare_cc/|eps_cc|^2 + bare_ss/|eps_ss|^2;
+        eps: None (Landau, eps = 1) or a callable omega -> (eps_cc, eps_ss)."""
+        if eps is None:
+            w = self.bare_cc + self.bare_ss
+        else:
+            e_cc, e_ss = eps(self.omega)
+            w = self.bare_cc / np.abs(e_cc) ** 2 + self.bare_ss / np.abs(e_ss) ** 2
+        return np.bincount(self.event, weights=w, minlength=self.a.size)
 
 
 def _subcells(geom, m, m_sep):
@@ -189,7 +201,7 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
 
     The measure int int dJ-bar dJ-bar' delta(n Omega - n' Omega') and the Fourier coefficients
     are integrated over sub-cells (`_subcells`) with a uniform J-bar density per unit frequency
-    on each, then summed per pair of faces.
+    on each; the dielectric factor is applied per elementary resonance (`Events.weights`).
     """
     sub = _subcells(geom, m, m_sep)
     width = np.abs(sub["om1"] - sub["om0"])
@@ -200,7 +212,7 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
     s2 = sin_coefficient_imag(ns[:, None], sub["kappa"][None, :]) ** 2
     parts = [_branch_partition(sub, b) for b in (0, 1)]
     nf = geom.nu.size
-    keys, vcc, vss, tha, thb = [], [], [], [], []
+    keys, vcc, vss, tha, thb, oms = [], [], [], [], [], []
     for n in range(1, n_max + 1):
         for npr in range(1, n_max + 1):
             for bt in (0, 1):
@@ -214,7 +226,8 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
                     dens = sub["length"][t] * sub["length"][p] / (n * width[t] * npr * width[p])
                     # int omega^2 domega over the overlap (X = omega (d ln f/dh - d ln f'/dh))
                     meas = dens * (hi**3 - lo**3) / 3.0
-                    keys.append((n - 1) * nf * nf + ft * nf + fp)
+                    keys.append(ft * nf + fp)
+                    oms.append(0.5 * (lo + hi))
                     vcc.append(meas * c2[n - 1, t] * c2[npr - 1, p])
                     vss.append(meas * s2[n - 1, t] * s2[npr - 1, p])
                     tha.append(sub["theta"][t])
@@ -222,16 +235,13 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
     keys = np.concatenate(keys)
     uk, inv = np.unique(keys, return_inverse=True)
     vcc, vss = np.concatenate(vcc), np.concatenate(vss)
-    bare_cc = KERNEL * np.bincount(inv, weights=vcc)
-    bare_ss = KERNEL * np.bincount(inv, weights=vss)
-    # where in each face the resonance sits on average (f is sampled there)
-    wsum = np.bincount(inv, weights=vcc + vss)
+    # where in each face the resonances sit on average (f is sampled there)
+    wt = vcc + vss
+    wsum = np.bincount(inv, weights=wt)
     wsum = np.where(wsum > 0, wsum, 1.0)
-    theta_a = np.bincount(inv, weights=(vcc + vss) * np.concatenate(tha)) / wsum
-    theta_b = np.bincount(inv, weights=(vcc + vss) * np.concatenate(thb)) / wsum
-    nn, rest = np.divmod(uk, nf * nf)
-    a, b = np.divmod(rest, nf)
-    n = nn + 1
+    theta_a = np.bincount(inv, weights=wt * np.concatenate(tha)) / wsum
+    theta_b = np.bincount(inv, weights=wt * np.concatenate(thb)) / wsum
+    a, b = np.divmod(uk, nf)
     dh = geom.s * geom.nu * geom.dj  # h_{a+1} - h_a
     E = a.size
     rows = np.repeat(np.arange(E), 2)
@@ -242,28 +252,23 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
     c4 = np.stack([a, a + 1, b, b + 1], axis=1).ravel()
     p4 = np.stack([1.0 - theta_a, theta_a, 1.0 - theta_b, theta_b], axis=1).ravel()
     P = sparse.csr_matrix((p4, (r4, c4)), shape=(E, nf + 1))
-    if not (np.all(np.isfinite(bare_cc)) and np.all(np.isfinite(bare_ss))):
+    if not (np.all(np.isfinite(vcc)) and np.all(np.isfinite(vss))):
         raise FloatingPointError("non-finite resonance weight on the grid")
-    return Events(a, b, n, bare_cc, bare_ss, C, P)
+    return Events(a, b, C, P, inv, np.concatenate(oms), KERNEL * vcc, KERNEL * vss)
 
 
 class CollisionOperator:
     """dm/dtau = -X^T (W F X[ln f]) for one geometry, resonance set and dielectric factor.
 
-    eps : None (Landau) or a pair (eps_cc, eps_ss) of complex arrays (n_max, N-1) at
-    omega = n nu_a.
+    eps : None (Landau) or a callable omega -> (eps_cc, eps_ss) (Lenard-Balescu), evaluated at
+    the frequency of every elementary resonance.
     """
 
     def __init__(self, geom, events, eps=None):
         self.geom = geom
         self.events = events
         ev = events
-        if eps is None:
-            self.W = ev.bare_cc + ev.bare_ss
-        else:
-            e_cc, e_ss = eps
-            i = (ev.n - 1, ev.a)
-            self.W = ev.bare_cc / np.abs(e_cc[i]) ** 2 + ev.bare_ss / np.abs(e_ss[i]) ** 2
+        self.W = ev.weights(eps)
         self.D = geom.D
         self.X = (ev.C @ self.D).tocsr()  # (E, N)
         self.P = ev.P

@@ -148,6 +148,22 @@ class DielectricTensor:
                     eps_ss += 2.0 * np.pi * tss
         return eps_cc.reshape(omega.shape), eps_ss.reshape(omega.shape)
 
+    def upper_half_plane(self, z):
+        """(eps_cc, eps_ss) at complex frequencies z with Im z > 0, where the integrands have no
+        pole and eps is the plain quadrature (its analytic continuation from the real axis);
+        accurate while Im z / l_max is well above the spacing of the Omega nodes."""
+        z = np.asarray(z, dtype=complex)
+        flat = z.ravel()
+        eps_cc = np.ones(flat.shape, dtype=complex)
+        eps_ss = np.ones(flat.shape, dtype=complex)
+        for Om, w, Gcc, Gss in self._nodes:
+            for il, l in enumerate(range(1, self.l_max + 1)):
+                for sgn in (1.0, -1.0):
+                    R = 1.0 / (Om[None, :] - flat[:, None] / (sgn * l))
+                    eps_cc += 2.0 * np.pi * (R @ (w * Gcc[il]))
+                    eps_ss += 2.0 * np.pi * (R @ (w * Gss[il]))
+        return eps_cc.reshape(z.shape), eps_ss.reshape(z.shape)
+
     def _branch_term(self, x0, sgn, Om, w, Gcc, Gss, A, branch, l):
         """int_0^A G/(Omega - x0 - i0 sgn) dOmega for every x0, both components."""
         pole = (x0 > 0.0) & (x0 < A)

@@ -68,11 +68,38 @@ class ActionGrid:
         return PHASE_VOLUME_PER_JBAR * self.width
 
 
-def action_grid(M0, n_nodes, kappa_max):
-    """n_nodes cell-centred nodes uniform in kappa on (0, kappa_max) at magnetisation M0."""
+def _feature_density(state, kappa):
+    """sqrt|d^2 ln f/dh^2| |dh/dkappa|: large across the steep edges of f(h), zero for a
+    thermal state (ln f linear in h)."""
+    M0 = state.M0
+    h = orbits.energy_from_kappa(kappa, M0)
+    with np.errstate(divide="ignore"):
+        logf = np.log(np.maximum(state.f_energy(h), 1e-300))
+    d2 = np.gradient(np.gradient(logf, h), h)
+    return np.sqrt(np.abs(d2)) * 4.0 * M0 * kappa
+
+
+def action_grid(M0, n_nodes, kappa_max, state=None, feature_share=0.5):
+    """n_nodes cell-centred J-bar nodes on (0, J-bar(kappa_max)) at magnetisation M0.
+
+    Without a state, uniform in kappa.  With a state F(h), a share `feature_share` of the nodes
+    is placed by equidistributing sqrt|d^2 ln F/dh^2| (the steep edges of a core-halo state,
+    where the dielectric tensor needs ln f resolved), the rest uniformly in kappa.
+    """
     if n_nodes < 8 or not kappa_max > 1.0:
         raise ValueError(f"action grid: n_nodes = {n_nodes} must be >= 8, kappa_max > 1")
-    kappa = (np.arange(n_nodes) + 0.5) * kappa_max / n_nodes
+    u = (np.arange(n_nodes) + 0.5) / n_nodes
+    kappa = u * kappa_max
+    if state is not None and feature_share > 0:
+        kf = np.linspace(0.0, kappa_max, 20001)
+        dens = _feature_density(state, kf)
+        total = np.trapezoid(dens, kf)
+        if total > 1e-12 * kappa_max:
+            density = (1.0 - feature_share) / kappa_max + feature_share * dens / total
+            cdf = np.concatenate(
+                ([0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(kf)))
+            )
+            kappa = np.interp(u * cdf[-1], cdf, kf)
     kappa = np.where(np.abs(kappa - 1.0) < 1e-9, 1.0 + 1e-9, kappa)
     jbar = orbits.rescaled_action(kappa, M0)
     edges = np.concatenate(([0.0], 0.5 * (jbar[1:] + jbar[:-1]), [1.5 * jbar[-1] - 0.5 * jbar[-2]]))
@@ -157,9 +184,9 @@ def grid_thermal_state(grid, u, M0_guess):
         c0 = cos_coefficient(0, orbits.kappa_from_rescaled_action(grid.jbar, M0))
         return [np.dot(m, c0) - M0, np.dot(m, h) + 0.5 * M0**2 - u]
 
-    sol = optimize.root(residual, [x0, thermal_beta(x0)], method="hybr", tol=1e-14)
+    sol = optimize.root(residual, [x0, thermal_beta(x0)], method="hybr", tol=1e-13)
     M0, beta = sol.x
-    if not sol.success or np.max(np.abs(residual(sol.x))) > 1e-11:
+    if not np.max(np.abs(residual(sol.x))) < 1e-11:
         raise EquilibriumError(f"no thermal state on the grid with u = {u}: {sol.message}")
     return state(M0, beta)[0], float(M0), float(beta)
 
@@ -190,8 +217,10 @@ class RelaxationSettings:
     dtau_first: float = 0.0  # 0: from the initial rate
     max_steps: int = 2000
     flux_times: tuple = (0.0,)
+    feature_share: float = 0.5
     eps_panels: int = 48
     eps_order: int = 20
+    eps_refresh: float = 0.01
 
     def __post_init__(self):
         if self.equation not in EQUATIONS:
@@ -248,19 +277,73 @@ def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
     return y, False
 
 
-class _Operator:
-    """The collision operator of the current (f, M0), rebuilt after every accepted step."""
+def _interpolated_dielectric(tensor, geom, n_max, l_max):
+    """eps_cc, eps_ss tabulated once and interpolated linearly in omega: at the faces'
+    frequencies n nu_a (dense where the grid is) below 1.2 l_max Omega_0, where the librating
+    poles make eps change fast; on 200 geometric points above, where only rotating orbits
+    contribute and eps is smooth; on a geometric grid below 0.05 Omega_0 (eps_ss ~ eps_ss(0) +
+    c omega^2 there)."""
+    Om0 = np.sqrt(geom.M0)
+    faces = (np.arange(1, n_max + 1)[:, None] * geom.nu[None, :]).ravel()
+    cut = 1.2 * l_max * Om0
+    top = max(faces.max(), cut) * 1.01
+    om = np.unique(
+        np.concatenate(
+            [
+                np.geomspace(1e-5 * Om0, 0.05 * Om0, 40),
+                faces[faces < cut],
+                np.geomspace(cut, top, 200),
+            ]
+        )
+    )
+    e_cc, e_ss = tensor(om)
 
-    def __init__(self, grid, f, M0, settings):
-        s = settings
+    def eps(w):
+        out = []
+        for e in (e_cc, e_ss):
+            out.append(np.interp(w, om, e.real) + 1j * np.interp(w, om, e.imag))
+        return out[0], out[1]
+
+    return eps
+
+
+class _Dielectric:
+    """eps(omega) of the grid state, recomputed only when f has changed by more than
+    `refresh` (relative to max f) since it was last computed (the weights then lag by less)."""
+
+    def __init__(self, settings):
+        self.s = settings
+        self.f_ref = None
+        self.eps = None
+        self.n_evaluations = 0
+
+    def __call__(self, grid, f, geom):
+        s = self.s
+        if self.f_ref is not None:
+            change = np.max(np.abs(f - self.f_ref)) / np.max(self.f_ref)
+            if change <= s.eps_refresh:
+                return self.eps
+        # the dielectric tensor of f(J-bar) with its own self-consistent M0 (eps_ss(0) = 0
+        # needs it: with the grid's M0, which differs by the quadrature error, 1/|eps_ss|^2
+        # at low frequency would be wrong by orders of magnitude)
+        tab = TabulatedState(grid.jbar, np.maximum(f, np.exp(LOG_FLOOR)), M0_guess=geom.M0)
+        tensor = DielectricTensor(tab, l_max=s.l_max, n_panels=s.eps_panels, order=s.eps_order)
+        self.eps = _interpolated_dielectric(tensor, geom, s.n_max, s.l_max)
+        self.f_ref = f.copy()
+        self.n_evaluations += 1
+        return self.eps
+
+
+class _Operator:
+    """The collision operator of a state f on the grid with orbits of magnetisation M0."""
+
+    def __init__(self, grid, f, M0, settings, dielectric=None):
         self.geom = geometry(grid.jbar, M0)
-        self.events = resonance_events(self.geom, s.n_max)
+        self.events = resonance_events(self.geom, settings.n_max)
         eps = None
-        if s.equation == "lenard_balescu":
-            tab = TabulatedState(grid.jbar, np.maximum(f, np.exp(LOG_FLOOR)), M0=M0)
-            tensor = DielectricTensor(tab, l_max=s.l_max, n_panels=s.eps_panels, order=s.eps_order)
-            omega = np.arange(1, s.n_max + 1)[:, None] * self.geom.nu[None, :]
-            eps = tensor(omega)
+        if settings.equation == "lenard_balescu":
+            dielectric = dielectric or _Dielectric(settings)
+            eps = dielectric(grid, f, self.geom)
         self.op = CollisionOperator(self.geom, self.events, eps)
 
 
@@ -281,7 +364,7 @@ def evolve(state, settings, progress=None):
     """
     s = settings
     t0 = time.perf_counter()
-    grid = action_grid(state.M0, s.n_nodes, s.kappa_max)
+    grid = action_grid(state.M0, s.n_nodes, s.kappa_max, state, s.feature_share)
     f, M0 = project_state(state, grid)
     y = np.log(f)
     vol = grid.volume
@@ -306,8 +389,10 @@ def evolve(state, settings, progress=None):
             progress({"tau": tau, "M0": M0, "S": hist.S[-1], "u": hist.u[-1], "distance": dist})
         return dist
 
+    dielectric = _Dielectric(s)
+
     def record_flux(tau, y, M0, oper=None):
-        oper = oper or _Operator(grid, np.exp(y), M0, s)
+        oper = oper or _Operator(grid, np.exp(y), M0, s, dielectric)
         tau_flux.append(tau)
         flux.append(oper.op.face_flux(y) / PHASE_VOLUME_PER_JBAR)
         sdot.append(oper.op.entropy_production(y))
@@ -319,15 +404,16 @@ def evolve(state, settings, progress=None):
     rate0 = np.max(np.abs(oper.op.rate(y)) / vol)
     dt = s.dtau_first or (s.rtol * np.max(f) / rate0 if rate0 > 0 else s.tau_max)
     dM0dt = 0.0
+    fresh = False  # the operator of tau = 0 serves the first step (dM0/dtau unknown: 0)
     n_rejected = n_steps = 0
     while tau < s.tau_max * (1 - 1e-12) and dist >= s.thermal_tol and n_steps < s.max_steps:
         dt = min(dt, s.tau_max - tau)
         upcoming = [t for t in flux_times if t > tau * (1 + 1e-12)]
         if upcoming:
             dt = min(dt, upcoming[0] - tau)
-        M0_mid = M0 + 0.5 * dM0dt * dt
-        if oper.geom.M0 != M0_mid:
-            oper = _Operator(grid, np.exp(y), M0_mid, s)
+        if fresh:  # a new step: orbits at the predicted mid-step M0 (kept if it is rejected)
+            oper = _Operator(grid, np.exp(y), M0 + 0.5 * dM0dt * dt, s, dielectric)
+            fresh = False
         y1, ok1 = _backward_euler(oper.op, vol, y, dt)
         yh, okh = _backward_euler(oper.op, vol, y, 0.5 * dt) if ok1 else (y, False)
         y2, ok2 = _backward_euler(oper.op, vol, yh, 0.5 * dt) if okh else (y, False)
@@ -348,8 +434,9 @@ def evolve(state, settings, progress=None):
         dM0dt = (M0_new - M0) / dt
         M0 = M0_new
         dist = record(tau, y, M0)
+        fresh = True
         if any(abs(tau - t) <= 1e-9 * max(t, 1.0) for t in flux_times):
-            oper = record_flux(tau, y, M0)
+            record_flux(tau, y, M0)
         dt *= min(4.0, 0.9 / np.sqrt(max(err, 1e-12)))
     if tau_flux[-1] != tau:
         record_flux(tau, y, M0)
@@ -364,6 +451,7 @@ def evolve(state, settings, progress=None):
         settings=s.as_dict(),
         n_steps=n_steps,
         n_rejected=n_rejected,
+        n_dielectric=dielectric.n_evaluations,
         thermalised=bool(dist < s.thermal_tol),
         wall_time=time.perf_counter() - t0,
         u_state=float(getattr(state, "u", np.nan)),

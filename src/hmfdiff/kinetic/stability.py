@@ -28,7 +28,14 @@ import numpy as np
 from ..meanfield import orbits
 from .dielectric import DielectricTensor
 
-__all__ = ["VlasovInstabilityError", "StabilityReport", "vlasov_stability", "check_vlasov_stable"]
+__all__ = [
+    "VlasovInstabilityError",
+    "StabilityReport",
+    "winding",
+    "vlasov_stability",
+    "growing_mode",
+    "check_vlasov_stable",
+]
 
 
 class VlasovInstabilityError(ValueError):
@@ -67,42 +74,73 @@ def _frequencies(state, l_max, n):
     return np.concatenate([small, body, tail])
 
 
-def _refined_phase(tensor, omega, comp, max_jump=0.5, rounds=12):
-    """Unwrapped arg eps(omega), inserting frequencies where arg jumps by more than max_jump."""
+def _refined_phase(fun, omega, max_jump=0.5, rounds=12):
+    """Unwrapped arg fun(omega), inserting frequencies where arg jumps by more than max_jump."""
     for _ in range(rounds):
-        eps = tensor(omega)[comp]
-        jump = np.abs(np.angle(eps[1:] / eps[:-1]))
+        val = fun(omega)
+        jump = np.abs(np.angle(val[1:] / val[:-1]))
         bad = np.flatnonzero(jump > max_jump)
         if not bad.size:
             break
         omega = np.sort(np.concatenate([omega, 0.5 * (omega[bad] + omega[bad + 1])]))
-    return omega, eps, np.unwrap(np.angle(eps))
+    return omega, val, np.unwrap(np.angle(val))
+
+
+def winding(fun, omega):
+    """(1/pi) times the change of arg fun along the increasing real frequencies `omega`
+    (refined where the argument turns fast): for a function analytic in the upper half plane
+    with fun(-conj w) = conj fun(w) and fun -> 1 at infinity, the number of its zeros with
+    Im w > 0 when omega runs from 0+ to beyond the last change of argument."""
+    _, _, phase = _refined_phase(fun, np.asarray(omega, dtype=float))
+    return float((phase[-1] - phase[0]) / np.pi)
 
 
 def vlasov_stability(state, l_max=6, n_omega=1500, **accuracy):
     """Count the zeros of eps_cc and eps_ss in the upper half plane (`StabilityReport`)."""
     tensor = DielectricTensor(state, l_max=l_max, **accuracy)
     omega = _frequencies(state, l_max, n_omega)
-    om_cc, e_cc, ph_cc = _refined_phase(tensor, omega, 0)
-    w_cc = (ph_cc[-1] - ph_cc[0]) / np.pi
-    e_ss_all = tensor(omega)[1]
+    e_cc0, e_ss_all = tensor(omega[:1])[0][0], tensor(omega)[1]
+    w_cc = winding(lambda w: tensor(w)[0], omega)
     ss0 = float(e_ss_all[0].real)
     far = np.flatnonzero(np.abs(e_ss_all - ss0) > 100.0 * abs(ss0))
     r = float(omega[far[0]]) if far.size else float(omega[0])
-    om_ss, e_ss, ph_ss = _refined_phase(tensor, omega[omega >= r], 1)
-    w_ss = (ph_ss[-1] - ph_ss[0]) / np.pi - 1.0
-    # arg eps_ss(r) must be that of a real c r^2 (the half circle model); a real positive
-    # eps at the far end closes the contour
+    # the half circle |omega| = r round the neutral rotation turns eps_ss ~ c omega^2 by -2 pi
+    w_ss = winding(lambda w: tensor(w)[1], omega[omega >= r]) - 1.0
     return StabilityReport(
         zeros_cc=int(round(w_cc)),
         zeros_ss=int(round(w_ss)),
-        winding_cc=float(w_cc),
-        winding_ss=float(w_ss),
-        eps_cc0=float(e_cc[0].real),
+        winding_cc=w_cc,
+        winding_ss=w_ss,
+        eps_cc0=float(e_cc0.real),
         eps_ss0=ss0,
         r_ss=r,
         l_max=int(l_max),
     )
+
+
+def growing_mode(state, component="cc", l_max=6, im_min=0.02, **accuracy):
+    """The zero of eps_cc (component 'cc') or eps_ss ('ss') with the largest imaginary part
+    above im_min Omega_0: a scan of |eps| on a grid of the upper half plane
+    (`DielectricTensor.upper_half_plane`), then Newton steps.  Returns the complex frequency
+    (growth rate = imaginary part) or None if |eps| has no zero there."""
+    tensor = DielectricTensor(state, l_max=l_max, **accuracy)
+    idx = 0 if component == "cc" else 1
+    Om0 = np.sqrt(state.M0)
+    top = l_max * float(orbits.frequency(state.kappa_max, state.M0))
+    X, Y = np.meshgrid(np.linspace(0.02 * Om0, top, 400), np.geomspace(im_min * Om0, Om0, 40))
+    Z = (X + 1j * Y).ravel()
+    vals = np.abs(tensor.upper_half_plane(Z)[idx])
+    z = Z[np.argmin(vals)]
+    for _ in range(50):
+        e0 = tensor.upper_half_plane(z)[idx]
+        d = 1e-7 * Om0
+        slope = (tensor.upper_half_plane(z + d)[idx] - e0) / d
+        z = z - e0 / slope
+        if abs(e0) < 1e-12 or z.imag <= 0:
+            break
+    if z.imag < 0.5 * im_min * Om0 or abs(tensor.upper_half_plane(z)[idx]) > 1e-8:
+        return None
+    return complex(z)
 
 
 def check_vlasov_stable(state, name, l_max=6, **kw):

@@ -1,0 +1,192 @@
+"""Collisional relaxation by the Landau and Lenard-Balescu equations (issue 13): the current by
+two routes, the discrete operator against the Fokker-Planck current, conservation, the H-theorem,
+the thermal fixed point and end point, the data contract."""
+
+import numpy as np
+import pytest
+
+from hmfdiff.kinetic.collision import CollisionOperator, geometry, resonance_events
+from hmfdiff.kinetic.flux import fokker_planck_current, fokker_planck_jbar_current, hmflb_current
+from hmfdiff.kinetic.relaxation import (
+    RelaxationSettings,
+    _Operator,
+    action_grid,
+    evolve,
+    project_state,
+)
+from hmfdiff.meanfield import orbits
+from hmfdiff.meanfield.equilibrium import (
+    ThermalState,
+    make_state,
+    thermal_beta,
+    thermal_M0_from_energy,
+)
+from hmfdiff.pipeline.io import read_dataset, write_dataset
+from hmfdiff.pipeline.kinetic_relaxation_layout import kinetic_relaxation_dataset
+
+CH2 = dict(kind="core_halo", eta1=0.298, eta2=0.051, mu1=-0.517, mu2=0.19, beta1=30.0, beta2=10.0)
+HOT = dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0)
+EQUATIONS = ["landau", "lenard_balescu"]
+
+
+@pytest.fixture(scope="module")
+def hot():
+    return make_state(HOT)
+
+
+# ---------------------------------------------------------------- the current at tau = 0
+@pytest.mark.parametrize("collective", [False, True])
+def test_hmflb_resonance_sum_equals_fokker_planck_current(collective):
+    """Eq. hmflb summed term by term (all signs of n, n', both directions of a rotating partner,
+    the paper's |1/D|^2 with cc-ss cross terms) against D_pol f - D_dif df/dJ (eq. fp) from
+    kinetic.diffusion; and both vanish for a thermal state."""
+    kappa = np.array([0.1, 0.3, 0.42, 0.6, 0.8, 0.95, 1.05, 1.2, 1.5, 2.0])
+    ch2 = make_state(CH2)
+    direct = hmflb_current(ch2, kappa, collective=collective)
+    fp = fokker_planck_current(ch2, kappa, collective=collective)
+    assert np.max(np.abs(direct - fp)) < 1e-10 * np.max(np.abs(fp))
+    th = ThermalState(u=-0.1)
+    scale = np.max(np.abs(hmflb_current(make_state(HOT), kappa, collective=collective)))
+    assert np.max(np.abs(hmflb_current(th, kappa, collective=collective))) < 1e-12 * scale
+
+
+@pytest.mark.parametrize("equation", EQUATIONS)
+def test_discrete_current_converges_to_the_fokker_planck_current(hot, equation):
+    """The scheme's current through the faces of a 300-node grid at tau = 0 against the
+    Fokker-Planck current of the analytic state, away from the separatrix band (where the
+    continuum current changes by orders of magnitude within the grid spacing)."""
+    s = RelaxationSettings(equation=equation, n_nodes=300, kappa_max=3.5)
+    grid = action_grid(hot.M0, s.n_nodes, s.kappa_max, hot, s.feature_share)
+    f, M0 = project_state(hot, grid)
+    oper = _Operator(grid, f, M0, s)
+    G = oper.op.face_flux(np.log(f)) / (4 * np.pi)
+    jf = 0.5 * (grid.jbar[1:] + grid.jbar[:-1])
+    ref = fokker_planck_jbar_current(hot, jf, collective=equation == "lenard_balescu")
+    kf = oper.geom.kappa_face
+    sel = (np.abs(kf - 1) > 0.05) & (np.abs(ref) > 1e-3 * np.nanmax(np.abs(ref)))
+    err = np.abs(G[sel] / ref[sel] - 1)
+    assert sel.sum() > 100
+    assert np.median(err) < 0.02 and np.percentile(err, 90) < 0.1
+
+
+@pytest.mark.parametrize("equation", EQUATIONS)
+def test_operator_conserves_mass_and_energy_and_produces_entropy(hot, equation):
+    s = RelaxationSettings(equation=equation, n_nodes=80, kappa_max=3.5)
+    grid = action_grid(hot.M0, s.n_nodes, s.kappa_max, hot)
+    f, M0 = project_state(hot, grid)
+    y = np.log(f)
+    op = _Operator(grid, f, M0, s).op
+    rate = op.rate(y)
+    h = op.geom.h
+    assert abs(rate.sum()) < 1e-13 * np.abs(rate).sum()
+    assert abs(np.dot(h, rate)) < 1e-13 * np.abs(h * rate).sum()
+    # dS/dtau = -sum ln f dm/dtau = sum W F X[ln f]^2 > 0
+    assert op.entropy_production(y) == pytest.approx(-np.dot(y, rate), rel=1e-10)
+    assert op.entropy_production(y) > 0
+    # a thermal f = C exp(-beta h) (same mass) on the same orbits is a fixed point
+    y_th = -2.7 * h - np.log(np.sum(grid.volume * np.exp(-2.7 * h)))
+    assert np.max(np.abs(op.rate(y_th))) < 1e-12 * np.max(np.abs(rate))
+
+
+# -------------------------------------------------------------------------- evolutions
+@pytest.mark.parametrize("equation", EQUATIONS)
+def test_thermal_state_stays_put(equation):
+    st = ThermalState(u=-0.1)
+    s = RelaxationSettings(
+        equation=equation,
+        n_nodes=96,
+        kappa_max=3.5,
+        tau_max=200.0,
+        thermal_tol=0.0,
+        dtau_first=1.0,
+        flux_times=(0.0, 10.0),
+    )
+    out = evolve(st, s)
+    assert out["n_steps"] >= 4 and out["tau"][-1] == pytest.approx(200.0)
+    change = np.max(np.abs(out["f"] - out["f"][0])) / np.max(out["f"][0])
+    assert change < 1e-8
+    assert np.max(np.abs(out["M0"] - out["M0"][0])) < 1e-10
+
+
+@pytest.fixture(scope="module", params=EQUATIONS)
+def hot_run(request, hot):
+    """The hot-halo state evolved on a small grid until M0 has moved (Landau is faster)."""
+    tau_max = 4.0 if request.param == "landau" else 30.0
+    s = RelaxationSettings(
+        equation=request.param, n_nodes=120, kappa_max=3.5, tau_max=tau_max, thermal_tol=0.0
+    )
+    return evolve(hot, s)
+
+
+def test_mass_energy_and_entropy(hot_run):
+    out = hot_run
+    assert out["n_steps"] >= 5
+    assert np.max(np.abs(out["mass"] - out["mass"][0])) < 1e-10
+    u = out["u"]
+    assert np.max(np.abs(u - u[0])) < 1e-4 * abs(u[0])
+    dS = np.diff(out["S"])
+    assert np.all(dS >= -1e-13 * abs(out["S"][0]))  # H-theorem at every step
+    assert out["S"][-1] > out["S"][0] + 1e-3
+    assert out["M0"][-1] < out["M0"][0] - 1e-3  # the separatrix moves: nodes change family
+
+
+def test_non_thermal_state_ends_at_the_thermal_state_of_its_energy(hot):
+    """Hot-halo state, Landau: final M0 and beta against the thermal state of u(0) from
+    thermal_M0_from_energy (independent of the grid), and f against that thermal f."""
+    s = RelaxationSettings(
+        equation="landau", n_nodes=300, kappa_max=3.5, rtol=2e-3, thermal_tol=1e-3
+    )
+    out = evolve(hot, s)
+    assert out["thermalised"]
+    u0 = out["u"][0]
+    M0_th = thermal_M0_from_energy(u0)
+    assert abs(out["M0"][-1] - M0_th) < 1e-3
+    assert abs(out["beta_fit"][-1] - thermal_beta(M0_th)) < 1e-3 * thermal_beta(M0_th)
+    th = ThermalState(M0=M0_th)
+    f_th = th.f(orbits.kappa_from_rescaled_action(out["jbar"], M0_th))
+    assert np.max(np.abs(out["f"][-1] - f_th)) < 1e-2 * np.max(f_th)
+
+
+def test_dataset_contract(tmp_path, hot):
+    s = RelaxationSettings(equation="landau", n_nodes=48, kappa_max=3.5, tau_max=1.0)
+    out = evolve(hot, s)
+    ds = kinetic_relaxation_dataset(
+        out, case="hot", equation="landau", state=hot, thermal=ThermalState(u=float(out["u"][0]))
+    )
+    path = write_dataset(ds, tmp_path / "hot_landau.nc", {"relaxation": {}}, case="hot")
+    back = read_dataset(path, required=["M0", "u", "S", "mass", "f", "flux"])
+    assert back.attrs["case"] == "hot" and back.attrs["equation"] == "landau"
+    assert back.attrs["setting_n_nodes"] == 48 and back.attrs["setting_rtol"] == s.rtol
+    assert float(back.tau[0]) == 0.0 and float(back.tau_flux[0]) == 0.0
+    assert back["f"].dims == ("tau", "Jbar") and back["flux"].dims == ("tau_flux", "Jbar_face")
+    for name in back.variables:
+        assert back[name].attrs.get("units") and back[name].attrs.get("long_name"), name
+    mass = 4 * np.pi * (back["f"] * back["cell_width"]).sum("Jbar")
+    np.testing.assert_allclose(mass, back["mass"], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"equation": "boltzmann"}, "equation"),
+        ({"equation": "landau", "rtol": 0.0}, "rtol"),
+    ],
+)
+def test_bad_settings_are_refused(kw, match):
+    with pytest.raises(ValueError, match=match):
+        RelaxationSettings(**kw)
+
+
+def test_unknown_setting_is_named():
+    with pytest.raises(ValueError, match="rtoll"):
+        RelaxationSettings.from_mapping("landau", {"rtoll": 1e-3})
+
+
+def test_grid_operator_of_geometry_alone_is_landau(hot):
+    """CollisionOperator without eps is the Landau operator used by `_Operator`."""
+    grid = action_grid(hot.M0, 60, 3.5)
+    f, M0 = project_state(hot, grid)
+    geom = geometry(grid.jbar, M0)
+    op = CollisionOperator(geom, resonance_events(geom, 6))
+    ref = _Operator(grid, f, M0, RelaxationSettings(equation="landau", n_nodes=60)).op
+    np.testing.assert_allclose(op.rate(np.log(f)), ref.rate(np.log(f)), rtol=1e-12, atol=0)
