@@ -156,3 +156,70 @@ def test_md_rule_takes_the_threads_of_its_run(tmp_path):
         m = re.search(r"threads: (\d+)", job)
         threads[case] = int(m.group(1)) if m else 1
     assert threads == {"corehalo_ch2": 2, "thermal_u-0.1": 1}
+
+
+@pytest.mark.parametrize(
+    "field,value,match",
+    [
+        ("n_track", 0, r"field 'n_track' = 0 must be null \(all\) or an integer in \[1, n_partic"),
+        ("n_track", 6000, r"field 'n_track' = 6000 must be .* \[1, n_particles = 5000\]"),
+        ("bath", "fast", r"field 'bath' = 'fast' must be 'exact' or 'integrated'"),
+        ("bath_tolerance", 0.1, r"field 'bath_tolerance' = 0.1 is outside .*\(0.0, 0.001\)"),
+        ("m_every", 0.25, r"field 'm_every' = 0.25 must be a whole multiple of dt = 0.1"),
+    ],
+)
+def test_bad_precision_settings_give_one_line(field, value, match):
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["runs"]["thermal_u-0.1"][field] = value
+    with pytest.raises(ConfigError, match=match) as err:
+        md_runs(cfg)
+    assert "\n" not in str(err.value)
+
+
+def test_precision_settings_and_their_derived_counts():
+    run = md_runs(SMOKE)[("thermal_u-0.1", "full")]
+    assert run.m_every == SMOKE["md"]["m_every"] and run.m_steps == 2
+    assert run.n_m_samples == 301  # t_max = 60 every 0.2
+    sub = dataclasses.replace(run, n_track=100)
+    assert sub.n_tracked == 100 + run.n_test and sub.n_tracked_from_f == 100
+    bath = md_runs(SMOKE)[("thermal_u-0.1", "bath")]
+    assert bath.exact_bath and not dataclasses.replace(bath, bath="integrated").exact_bath
+    assert bath.n_tracked_from_f == 0
+    # an exact bath asks the scheduler for far less time than an integrated one
+    big = dataclasses.replace(bath, n_particles=10**6, dt=0.05, sample_every=5.0, t_max=2000.0)
+    assert big.runtime_min() < dataclasses.replace(big, bath="integrated").runtime_min()
+    # m_every defaults to sample_every
+    cfg = copy.deepcopy(SMOKE)
+    del cfg["md"]["m_every"]
+    assert md_runs(cfg)[("thermal_u-0.1", "bath")].m_every == cfg["md"]["sample_every"]
+
+
+def test_md_scaling_runs():
+    from hmfdiff.dynamics.settings import md_scaling_runs
+
+    runs = md_scaling_runs(SMOKE)
+    sc = SMOKE["md_scaling"]
+    assert set(runs) == {(d, n) for d in ("bath", "full") for n in sc["sizes"]}
+    for (dyn, n), run in runs.items():
+        assert run.n_particles == n and run.seeds == sc["seeds"] and run.dynamics == dyn
+        for k, v in sc["run"].items():
+            if k == "n_track":
+                assert run.n_track == (min(v, n) if dyn == "full" else v)
+            else:
+                assert getattr(run, k) == (tuple(v) if isinstance(v, list) else v), k
+    assert md_scaling_runs({k: v for k, v in SMOKE.items() if k != "md_scaling"}) == {}
+    # a tracked subset larger than the smallest N tracks all of that N
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md_scaling"]["run"]["n_track"] = 2000
+    clipped = md_scaling_runs(cfg)
+    assert clipped[("full", 1000)].n_track == 1000 and clipped[("full", 3000)].n_track == 2000
+    for edit, match in (
+        ({"case": "twostep_ch"}, r"md_scaling: field 'case' = 'twostep_ch' must name a case"),
+        ({"sizes": [1000, 1000]}, r"md_scaling: field 'sizes' = \[1000, 1000\] must be distinct"),
+        ({"run": {"tmax": 3}}, r"md_scaling: unknown field\(s\) \['tmax'\] under 'run'"),
+        ({"extra": 1}, r"md_scaling: unknown field\(s\) \['extra'\]"),
+    ):
+        cfg = copy.deepcopy(SMOKE)
+        cfg["md_scaling"].update(edit)
+        with pytest.raises(ConfigError, match=match):
+            md_scaling_runs(cfg)

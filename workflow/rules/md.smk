@@ -66,6 +66,33 @@ rule fit:
         "../scripts/fit.py"
 
 
+rule windowed:
+    """The theory's finite-time <dJ^2> fitted over the MD fit's own lags and window, bare for
+    MD(bath), dressed for MD(full), averaged over each bin like ND_md."""
+    input:
+        fit="results/fits/{case}_{dynamics}.nc",
+        equilibrium="results/equilibrium/{case}.nc",
+        lib=lib("windowed.py"),
+    output:
+        "results/windowed/{case}_{dynamics}.nc",
+    log:
+        "logs/windowed/{case}_{dynamics}.log",
+    wildcard_constraints:
+        dynamics="bath|full",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=15,
+    params:
+        n_max=config["theory"]["n_max"],
+        l_max=config["theory"]["l_max"],
+        separatrix_band=config["theory"]["separatrix_band"],
+    script:
+        "../scripts/windowed.py"
+
+
 rule validation:
     """results/validation.csv: MD against theory per case, dynamics and bin, and a summary."""
     input:
@@ -73,6 +100,11 @@ rule validation:
         theory=[f"results/theory/{c}.nc" for c in md_cases() for d in ("bath", "full")],
         equilibrium=[
             f"results/equilibrium/{c}.nc" for c in md_cases() for d in ("bath", "full")
+        ],
+        windowed=[
+            f"results/windowed/{c}_{d}.nc"
+            for c in md_cases()
+            for d in ("bath", "full")
         ],
         lib=lib("validation.py"),
     output:
@@ -94,3 +126,107 @@ rule validation:
         cases=[c for c in md_cases() for d in ("bath", "full")],
     script:
         "../scripts/validation.py"
+
+
+rule spectrum:
+    """N S_x, N S_y of the magnetisation measured in MD(bath) and MD(full) (Welch, all seeds)
+    against the bare and dressed bath spectra; harmonics n' <= max(8, theory n_max): fewer
+    leave out the slow orbits' high harmonics that fill the low frequencies."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        bath=lambda w: md_files(w.case, "bath"),
+        full=lambda w: md_files(w.case, "full"),
+        lib=lib("spectrum.py"),
+    output:
+        "results/spectrum/{case}.nc",
+    log:
+        "logs/spectrum/{case}.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=15,
+    params:
+        n_max=max(8, config["theory"]["n_max"]),
+        l_max=config["theory"]["l_max"],
+    script:
+        "../scripts/spectrum.py"
+
+
+rule md_scaling:
+    """One MD realisation of the 1/N study (config md_scaling) at N = {n}."""
+    input:
+        equilibrium="results/equilibrium/{case}.nc",
+        kernels=KERNELS,
+        lib=lib("md.py"),
+    output:
+        "results/scaling/{case}/{dynamics}/N{n}/seed{seed}.nc",
+    log:
+        "logs/scaling/{case}/{dynamics}/N{n}/seed{seed}.log",
+    wildcard_constraints:
+        dynamics="bath|full",
+        n=r"\d+",
+        seed=r"\d+",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: lambda w: scaling_run(w.dynamics, w.n).threads
+    resources:
+        mem_mb=lambda w: scaling_run(w.dynamics, w.n).memory_mb(),
+        runtime=lambda w: scaling_run(w.dynamics, w.n).runtime_min(),
+    params:
+        run=lambda w: scaling_run(w.dynamics, w.n).realisation_json(),
+    script:
+        "../scripts/md.py"
+
+
+rule fit_scaling:
+    """N*D_MD per bin at one N of the 1/N study, pooled over its seeds."""
+    input:
+        seeds=lambda w: scaling_files(w.case, w.dynamics, w.n),
+        lib=lib("fit.py"),
+    output:
+        "results/scaling/{case}/{dynamics}/N{n}/fit.nc",
+    log:
+        "logs/scaling/{case}/{dynamics}/N{n}/fit.log",
+    wildcard_constraints:
+        dynamics="bath|full",
+        n=r"\d+",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=15,
+    params:
+        fit=lambda w: json.dumps(
+            scaling_run(w.dynamics, w.n).fit_settings(), sort_keys=True
+        ),
+    script:
+        "../scripts/fit.py"
+
+
+rule scaling:
+    """results/scaling/{case}_{dynamics}.nc: N*D_MD per bin against N (figure 15)."""
+    input:
+        fits=lambda w: [
+            f"results/scaling/{w.case}/{w.dynamics}/N{n}/fit.nc"
+            for n in scaling_sizes()
+        ],
+        lib=lib("scaling.py"),
+    output:
+        "results/scaling/{case}_{dynamics}.nc",
+    log:
+        "logs/scaling/{case}_{dynamics}.log",
+    wildcard_constraints:
+        dynamics="bath|full",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        sizes=lambda w: scaling_sizes(),
+    script:
+        "../scripts/scaling.py"

@@ -2,9 +2,10 @@
 # One MDRun record per (case, dynamics), built once from the config's md section (defaults
 # merged with each case's overrides); every md/fit rule setting below is read from it.
 from hmfdiff.dynamics.kernel_cache import kernel_version
-from hmfdiff.dynamics.settings import md_runs
+from hmfdiff.dynamics.settings import md_runs, md_scaling_runs
 
 MD_RUNS = md_runs(config)
+MD_SCALING = md_scaling_runs(config)  # {(dynamics, N): MDRun} of the 1/N study, or {}
 # the shared numba cache of the MD kernels of this version of the dynamics sources
 KERNELS = f"results/kernels/{kernel_version()}"
 
@@ -35,3 +36,17 @@ def md_mem_mb(case, dynamics):
 
 def md_runtime_min(case, dynamics):
     return md_run(case, dynamics).runtime_min()
+
+
+def scaling_run(dynamics, n):
+    """The MDRun record of the 1/N study at N = n."""
+    return MD_SCALING[(dynamics, int(n))]
+
+
+def scaling_sizes():
+    return sorted({n for _, n in MD_SCALING})
+
+
+def scaling_files(case, dynamics, n):
+    seeds = scaling_run(dynamics, n).seeds
+    return [f"results/scaling/{case}/{dynamics}/N{n}/seed{s}.nc" for s in range(seeds)]

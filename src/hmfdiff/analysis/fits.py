@@ -200,6 +200,7 @@ def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
                 dynamics=str(ref.attrs.get("dynamics", "")),
                 D_convention="<dJ^2> = 2 D dt; N*D stored",
                 n_test=int(ref.attrs.get("n_test", 0)),
+                n_tracked_from_f=int(ref.attrs.get("n_tracked_from_f", N)),
                 test_sampling=str(ref.attrs.get("test_sampling", "none")),
                 jbar_range=jrange,
             ),
@@ -234,11 +235,13 @@ def tracked_density(jbar, fit, f_of_kappa):
     Particles drawn from f contribute 4 pi N f(kappa(J-bar)) per unit J-bar on both orbit
     families (dJ/dJ-bar = 2 on librating orbits, where a kappa labels one torus; 1 on rotating
     orbits, where it labels two); test particles drawn uniformly in J-bar contribute
-    n_test / (J-bar range).  MD(bath) tracks its test particles only; MD(full) tracks all N.
+    n_test / (J-bar range).  MD(bath) tracks its test particles only; MD(full) tracks n_track
+    of its N particles (all N by default), drawn at random.
     """
     M0 = float(fit["M0"])
     k = kappa_of_jbar(jbar, M0)
-    N = float(fit.attrs["N"])
+    # MD(full) may track a random subset of its N particles (md.n_track)
+    N = float(fit.attrs.get("n_tracked_from_f", fit.attrs["N"]))
     n_test = int(fit.attrs.get("n_test", 0))
     rho = np.zeros_like(jbar, dtype=float)
     if fit.attrs["dynamics"] == "full":
@@ -332,6 +335,11 @@ VALIDATION_COLUMNS = [
     "ratio",
     "z",
     "flag",
+    # the theory fitted like the MD (analysis.windowed; absent when not computed)
+    "ND_windowed",
+    "ratio_windowed",
+    "z_windowed",
+    "ND_spectrum",
 ]
 
 

@@ -420,3 +420,51 @@ def md_runs(config):
                 case=case, dynamics=dynamics, n_test=s[f"n_test_{dynamics}"], **fields
             )
     return out
+
+
+#: keys of the config's md_scaling section
+SCALING_KEYS = ("case", "sizes", "seeds", "run")
+
+
+def md_scaling_runs(config):
+    """{(dynamics, N): MDRun} of the 1/N scaling study (config section md_scaling), or {} when
+    the section is absent.
+
+    md_scaling: case (an MD case under md.runs), sizes (the N, each >= 1), seeds, and run:
+    settings that override the case's MD settings for these runs (e.g. a shorter t_max and
+    fit_window).  Raises ConfigError naming the field on a bad value."""
+    sc = config.get("md_scaling")
+    if not sc:
+        return {}
+    where = "md_scaling"
+    unknown = sorted(set(sc) - set(SCALING_KEYS))
+    if unknown:
+        raise ConfigError(f"{where}: unknown field(s) {unknown}; known: {list(SCALING_KEYS)}")
+    case = sc.get("case")
+    runs = md_runs(config)
+    if (case, "bath") not in runs:
+        raise ConfigError(f"{where}: field 'case' = {case!r} must name a case under md.runs")
+    sizes = sc.get("sizes")
+    ok = isinstance(sizes, list) and len(sizes) >= 1
+    ok = ok and all(isinstance(n, Real) and float(n).is_integer() and n >= 1 for n in sizes)
+    if not ok or len(set(sizes)) != len(sizes):
+        raise ConfigError(f"{where}: field 'sizes' = {sizes!r} must be distinct integers >= 1")
+    over = dict(sc.get("run") or {})
+    bad = sorted(set(over) - set(CONFIG_KEYS))
+    if bad:
+        raise ConfigError(f"{where}: unknown field(s) {bad} under 'run'")
+    out = {}
+    for dynamics in DYNAMICS:
+        base = runs[(case, dynamics)].to_dict()
+        base.update({k: v for k, v in over.items() if not k.startswith("n_test_")})
+        if f"n_test_{dynamics}" in over:
+            base["n_test"] = over[f"n_test_{dynamics}"]
+        base["seeds"] = sc.get("seeds", base["seeds"])
+        base["case"] = f"{case} (md_scaling)"
+        track = base.get("n_track")
+        for n in sizes:
+            base["n_particles"] = int(n)
+            if track is not None:  # a subset larger than N tracks all N
+                base["n_track"] = min(int(track), int(n))
+            out[(dynamics, int(n))] = MDRun(**base)
+    return out

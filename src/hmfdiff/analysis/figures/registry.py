@@ -48,6 +48,7 @@ import string
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
+from .fluctuation_figures import fig14_spectrum, fig15_scaling
 from .md_figures import fig08_dj2, fig09_md_thermal, fig10_md_corehalo
 from .orbit_figures import fig01_orbits, fig02_action_frequency, fig03_poles
 from .relaxation_md_figures import fig12_relaxation_md, fig13_relaxation_time
@@ -151,6 +152,7 @@ _FIT_FULL = Inputs("fit_full", "fits/{case}_full.nc")
 _ORBIT_CAT = "1. Mean-field orbits (figures 1-3)"
 _THEORY_CAT = "2. Kinetic theory (figures 4-7)"
 _MD_CAT = "3. Molecular dynamics against theory (figures 8-10)"
+_PRECISION_CAT = "5. MD precision: fluctuation spectrum and 1/N scaling (figures 14-15)"
 _RELAX_CAT = "4. Relaxation (figures 11-15)"
 
 _FIGURE_LIST = (
@@ -281,6 +283,35 @@ _FIGURE_LIST = (
         "exponent, and the kinetic predictions t_R = tau_R N of the Lenard-Balescu and Landau "
         "equations (same definition on the same bins).",
         _RELAX_CAT,
+    ),
+    Figure(
+        "fig14_spectrum",
+        "fig14",
+        fig14_spectrum,
+        (Inputs("spectrum", "spectrum/{case}.nc"),),
+        "Fig. 14: power spectrum of the magnetisation fluctuations, N S_x (along M) and N S_y "
+        "(across M), measured in MD(bath) and MD(full) (Welch estimate over segments of one "
+        "fit window, averaged over seeds; points with standard errors) against the kinetic "
+        "theory: the bare bath spectrum (a sum over orbits of c_n'^2, sigma_n'^2 times f and "
+        "the density of states at omega = n' Omega) for MD(bath) and the dressed one (divided "
+        "by |eps_cc|^2, |eps_ss|^2) for MD(full); dashed: the theory convolved with the Welch "
+        "window (the expectation of the estimate).  The screening of the libration band and "
+        "the dielectric tensor's modes show up as dips and peaks of the MD(full) spectrum.",
+        _PRECISION_CAT,
+    ),
+    Figure(
+        "fig15_scaling",
+        "fig15",
+        fig15_scaling,
+        (
+            Inputs("scaling_bath", "scaling/{case}_bath.nc"),
+            Inputs("scaling_full", "scaling/{case}_full.nc"),
+        ),
+        "Fig. 15: N D_MD in four representative J-bar_0 bins against the number of particles N "
+        "(config md_scaling), for MD(bath) (a) and MD(full) (b) of one thermal state, errors "
+        "from the spread between seeds: N D is independent of N where the kinetic theory's "
+        "1/N ordering holds.",
+        _PRECISION_CAT,
     ),
 )
 

@@ -1,0 +1,123 @@
+"""Layouts of the MD precision wing (issue 15), with the variable helper of `layouts`:
+results/spectrum/{case}.nc (the magnetisation's fluctuation spectrum, measured and theory) and
+results/scaling/{case}_{dynamics}.nc (N*D_MD against N) and results/windowed/{case}_{dynamics}.nc
+(the theory fitted like the MD).  Beside `layouts`, which holds the
+layouts of the paper's figures and is full."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .layouts import D_UNITS
+from .layouts import variable as _var
+
+__all__ = ["spectrum_dataset", "scaling_dataset", "windowed_dataset"]
+
+_S_UNITS = "time (N S(omega): two-sided, int S domega/2pi = variance)"
+_WHAT = {
+    "bath": ("MD(bath)", "bare bath (no collective effects)"),
+    "full": ("MD(full)", "dressed by the dielectric tensor (|eps|^-2)"),
+}
+
+
+def spectrum_dataset(comp):
+    """results/spectrum/{case}.nc from `analysis.md_spectrum.spectrum_comparison`."""
+    data = {}
+    coords = {"omega_theory": _var(("omega_theory",), comp["omega_theory"], "1/time", "frequency")}
+    for dyn, (md, th) in _WHAT.items():
+        om = f"omega_{dyn}"
+        coords[om] = _var((om,), comp[om], "1/time", f"Welch frequencies of {md}")
+        for c, e in (("x", "cc"), ("y", "ss")):
+            k = f"NS{c}_{dyn}"
+            data[k] = _var(
+                (om,),
+                comp[k],
+                _S_UNITS,
+                f"N S_{c}: measured spectrum of dM_{c} in {md} "
+                "(Welch, mean over segments and seeds)",
+            )
+            data[f"{k}_err"] = _var((om,), comp[f"{k}_err"], _S_UNITS, f"standard error of {k}")
+            data[f"{k}_theory"] = _var(
+                (om,), comp[f"{k}_theory"], _S_UNITS, f"N S_{c} of the theory, {th} (eps_{e})"
+            )
+            data[f"{k}_smoothed"] = _var(
+                (om,),
+                comp[f"{k}_smoothed"],
+                _S_UNITS,
+                f"N S_{c} of the theory, {th}, convolved with the Welch window (the "
+                "expectation of the measured estimate)",
+            )
+            data[f"{k}_theory_fine"] = _var(
+                ("omega_theory",), comp[f"{k}_theory_fine"], _S_UNITS, f"N S_{c}, {th}"
+            )
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update(comp["attrs"])
+    return ds
+
+
+def scaling_dataset(fits, sizes, *, dynamics):
+    """results/scaling/{case}_{dynamics}.nc: N*D_MD per bin at each N, from the fit datasets
+    (`analysis.fits.diffusion_fit`) of the sizes, in the order of `sizes`."""
+    ref = fits[0]
+    b, nb = ("bin",), ("N", "bin")
+    data = {
+        "ND_md": _var(nb, np.stack([f["ND_md"].values for f in fits]), D_UNITS, "N D_MD"),
+        "ND_md_err": _var(
+            nb, np.stack([f["ND_md_err"].values for f in fits]), D_UNITS, "standard error"
+        ),
+        "flag": _var(nb, np.stack([f["flag"].values for f in fits]), "1", "bin quality (fits)"),
+        "n_particles_in_bin": _var(
+            nb,
+            np.stack([f["n_particles_in_bin"].values for f in fits]),
+            "1",
+            "tracked particles per bin, all seeds",
+        ),
+        "kappa0": _var(b, ref["kappa0"].values, "1", "kappa at the bin centre"),
+        "M0": _var((), float(ref["M0"]), "1", "magnetisation used for the actions"),
+    }
+    coords = {
+        "N": _var(("N",), np.asarray(sizes, dtype=np.int64), "1", "number of particles N"),
+        "jbar0": _var(b, ref["jbar0"].values, "action", "bin centre, J-bar_0"),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update(
+        dynamics=dynamics,
+        fit_window=list(ref.attrs["fit_window"]),
+        n_seeds=int(ref.attrs["n_seeds"]),
+        D_convention="<dJ^2> = 2 D dt; N*D stored",
+    )
+    return ds
+
+
+def windowed_dataset(nd_windowed, nd_spectrum, fit, *, n_max, l_max):
+    """results/windowed/{case}_{dynamics}.nc from `analysis.windowed.windowed_at_bins`."""
+    b = ("bin",)
+    th = "bare (Landau)" if fit.attrs["dynamics"] == "bath" else "dressed (Lenard-Balescu)"
+    data = {
+        "ND_windowed": _var(
+            b,
+            nd_windowed,
+            D_UNITS,
+            f"N D of the theory, {th}: half the slope of the finite-time <dJ^2>(t) fitted over "
+            "the MD fit's lags and window, averaged over the bin like ND_md",
+        ),
+        "ND_spectrum": _var(
+            b,
+            nd_spectrum,
+            D_UNITS,
+            f"asymptotic N D of the theory, {th}, through the tabulated spectrum, bin average",
+        ),
+    }
+    coords = {
+        "jbar0": _var(b, fit["jbar0"].values, "action", "bin centre, J-bar_0"),
+        "kappa0": _var(b, fit["kappa0"].values, "1", "kappa at the bin centre"),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update(
+        dynamics=fit.attrs["dynamics"],
+        fit_window=list(fit.attrs["fit_window"]),
+        n_max=int(n_max),
+        l_max=int(l_max),
+    )
+    return ds
