@@ -63,6 +63,15 @@ include: "workflow/rules/relaxation.smk"
 include: "workflow/rules/relaxation_md.smk"
 
 
+# A run that starts holds the directory lock: job scripts still in .snakemake/scripts were left
+# by killed jobs (restart after a kill: snakemake --unlock, then the same command with
+# --rerun-incomplete).
+onstart:
+    from hmfdiff.pipeline.runtime import remove_stale_job_scripts
+
+    remove_stale_job_scripts()
+
+
 rule all:
     default_target: True
     input:

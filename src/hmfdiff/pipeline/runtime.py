@@ -16,8 +16,15 @@ import os
 import sys
 import time
 import traceback
+from pathlib import Path
 
-__all__ = ["get_logger", "set_threads", "current_job", "install_excepthook"]
+__all__ = [
+    "get_logger",
+    "set_threads",
+    "current_job",
+    "install_excepthook",
+    "remove_stale_job_scripts",
+]
 
 
 def current_job():
@@ -82,6 +89,20 @@ def get_logger(name, log_path=None):
     logger.propagate = False
     install_excepthook(str(log_path) if log_path else None)
     return logger
+
+
+def remove_stale_job_scripts(workdir="."):
+    """Delete the temporary job scripts that killed jobs left in `.snakemake/scripts`; return
+    them.
+
+    For the Snakefile's `onstart:` handler: a run that starts holds the directory lock, so no
+    job of another run is alive in this directory, and a job that ends removes its own script
+    (a SIGKILL does not let it).  Not for runs started with --nolock beside another run."""
+    scripts = Path(workdir) / ".snakemake" / "scripts"
+    stale = sorted(scripts.glob("tmp*")) if scripts.is_dir() else []
+    for path in stale:
+        path.unlink(missing_ok=True)
+    return stale
 
 
 def set_threads(n):
