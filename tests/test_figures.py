@@ -3,13 +3,14 @@ labels (a), (b), ... in reading order, numbers as mathtext powers of ten, labell
 
 import re
 
+import matplotlib.figure
 import numpy as np
 import pytest
 import yaml
 from _smoke import SMOKE, smoke_workdir
 from matplotlib import mathtext
 
-from hmfdiff.analysis.figures import md_figures, orbit_figures, style, theory_figures
+from hmfdiff.analysis.figures import style
 from hmfdiff.analysis.figures.registry import FIGURES, Inputs
 from hmfdiff.pipeline.io import read_dataset
 
@@ -77,31 +78,33 @@ def test_panel_tags_run_past_z():
 
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
-    """Every registry figure drawn from the smoke run's outputs, the matplotlib Figure kept."""
+    """Every registry figure drawn from the smoke run's outputs, the matplotlib Figure kept
+    (caught as it is saved, whichever module draws it)."""
     workdir = smoke_workdir(tmp_path_factory)
     specs = yaml.safe_load((workdir / SMOKE).read_text())["figures"]
     results = {p.parent.parent for p in workdir.glob("results/**/figures/fig01_orbits.png")}
     assert len(results) == 1
     results = results.pop()
     out = tmp_path_factory.mktemp("figures")
+    saved = []
+    savefig = matplotlib.figure.Figure.savefig
+
+    def keep(self, *args, **kwargs):
+        if self not in saved:
+            saved.append(self)
+        return savefig(self, *args, **kwargs)
+
     figures = {}
-    mp = pytest.MonkeyPatch()
-    for name, fig in FIGURES.items():
-        captured = []
-
-        def capture(figure, pdf, png, inputs=None, title="", _captured=captured):
-            _captured.append(figure)
-            style.save_figure(figure, pdf, png, inputs, title)
-
-        for module in (orbit_figures, theory_figures, md_figures):
-            mp.setattr(module, "save_figure", capture)
-        inputs = {
-            kind: [read_dataset(results / p) for p in paths]
-            for kind, paths in fig.input_files(specs[name]).items()
-        }
-        fig.draw(inputs, out / f"{name}.pdf", out / f"{name}.png")
-        (figures[name],) = captured
-    mp.undo()
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(matplotlib.figure.Figure, "savefig", keep)
+        for name, fig in FIGURES.items():
+            inputs = {
+                kind: [read_dataset(results / p) for p in paths]
+                for kind, paths in fig.input_files(specs[name]).items()
+            }
+            fig.draw(inputs, out / f"{name}.pdf", out / f"{name}.png")
+            (figures[name],) = saved
+            saved.clear()
     return figures
 
 
