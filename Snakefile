@@ -42,6 +42,8 @@ except ConfigError as e:
     sys.exit(f"Config error: {e}")
 
 CASES = list(config["cases"])
+RES = config["results_dir"]  # every output (results/smoke for config/smoke.yaml)
+LOG = config["log_dir"]  # every job's log
 
 
 wildcard_constraints:
@@ -75,11 +77,11 @@ onstart:
 rule all:
     default_target: True
     input:
-        expand("results/equilibrium/{case}.nc", case=CASES),
-        expand("results/orbits/{case}.nc", case=CASES),
-        expand("results/theory/{case}.nc", case=theory_cases()),
-        expand("results/analytic/{case}.nc", case=CASES),
-        "results/validation.csv",
+        expand(RES + "/equilibrium/{case}.nc", case=CASES),
+        expand(RES + "/orbits/{case}.nc", case=CASES),
+        expand(RES + "/theory/{case}.nc", case=theory_cases()),
+        expand(RES + "/analytic/{case}.nc", case=CASES),
+        RES + "/validation.csv",
         relaxation_files(),
         relaxation_md_files(),
         relaxation_comparison_outputs(),

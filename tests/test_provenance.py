@@ -101,7 +101,7 @@ def test_failed_job_log_ends_with_its_traceback(tmp_path):
     the one-line summary (and no Python traceback of the job)."""
     d = copy_workflow(tmp_path)
     case = "thermal_u-0.1"
-    eq = f"results/equilibrium/{case}.nc"
+    eq = f"results/smoke/equilibrium/{case}.nc"  # results_dir of the smoke config
     r = snakemake(["-j1", eq, "--configfile", SMOKE], d)
     assert r.returncode == 0, r.stderr[-3000:]
     with xr.open_dataset(d / eq) as ds:
@@ -112,7 +112,7 @@ def test_failed_job_log_ends_with_its_traceback(tmp_path):
     with open(d / eq, "r+b") as fh:
         fh.seek(offset + f.size * 4)
         fh.write(bytes(range(32)))
-    target = f"results/orbits/{case}.nc"
+    target = f"results/smoke/orbits/{case}.nc"
     r = snakemake(["-j1", target, "--configfile", SMOKE], d)
     assert r.returncode != 0
     logs = [p for p in d.rglob(f"{case}.log") if "orbits" in p.parts]

@@ -65,24 +65,26 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
     assert r.returncode == 0, r.stderr[-5000:]
     smoke = yaml.safe_load((workdir / "config/smoke.yaml").read_text())
     for case in smoke["cases"]:
-        eq = read_dataset(workdir / f"results/equilibrium/{case}.nc", required=["M0", "u", "f"])
+        eq = read_dataset(
+            workdir / f"results/smoke/equilibrium/{case}.nc", required=["M0", "u", "f"]
+        )
         assert 0 < float(eq["M0"]) < 1
         assert eq["f"].attrs["units"] == "1" and "long_name" in eq["f"].attrs
         assert "git_revision" in eq.attrs and "config" in eq.attrs
         orb = read_dataset(
-            workdir / f"results/orbits/{case}.nc", required=["J", "Omega", "c", "sigma"]
+            workdir / f"results/smoke/orbits/{case}.nc", required=["J", "Omega", "c", "sigma"]
         )
         assert float(orb["M0"]) == float(eq["M0"])
     for case in smoke["md"]["runs"]:
         for dyn in ("bath", "full"):
-            fit = read_dataset(workdir / f"results/fits/{case}_{dyn}.nc", required=["ND_md"])
+            fit = read_dataset(workdir / f"results/smoke/fits/{case}_{dyn}.nc", required=["ND_md"])
             assert fit.attrs["n_seeds"] == smoke["md"]["seeds"]
             assert np.isfinite(fit["ND_md"].values).any()
-        th = read_dataset(workdir / f"results/theory/{case}.nc", required=["D_landau"])
+        th = read_dataset(workdir / f"results/smoke/theory/{case}.nc", required=["D_landau"])
         for v in ("D_landau", "D_lenard_balescu", "Dpol_landau", "Dpol_lenard_balescu"):
             vals = th[v].values[th["separatrix_mask"].values == 0]
             assert np.all(np.isfinite(vals)), v  # no NaN/inf outside the masked band
-    with open(workdir / "results/validation.csv") as fh:
+    with open(workdir / "results/smoke/validation.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert list(rows[0]) == [
         "case",
@@ -103,12 +105,17 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
     assert len(figures) == len(FIGURES)  # the smoke config draws every figure of the registry
     for name in figures:
         for ext in ("pdf", "png"):
-            path = workdir / f"results/figures/{name}.{ext}"
+            path = workdir / f"results/smoke/figures/{name}.{ext}"
             assert path.stat().st_size > 5000
-        pdf = (workdir / f"results/figures/{name}.pdf").read_bytes()
+        pdf = (workdir / f"results/smoke/figures/{name}.pdf").read_bytes()
         assert b"software_versions" in pdf and b"git_revision" in pdf  # provenance metadata
     # no temporary part-files left behind
-    assert not list((workdir / "results").rglob("*.part"))
+    assert not list((workdir / "results/smoke").rglob("*.part"))
+    # the smoke config writes only under its own results_dir and log_dir, and says that its
+    # statistics validate nothing
+    assert sorted(p.name for p in (workdir / "results").iterdir()) == ["smoke"]
+    assert sorted(p.name for p in (workdir / "logs").iterdir()) == ["smoke"]
+    assert "TOY-SIZE STATISTICS" in (workdir / "results/smoke/validation_summary.txt").read_text()
 
     # nothing to do on a second run
     r = snakemake(["-n", "--configfile", "config/smoke.yaml"], workdir, timeout=300)
@@ -156,23 +163,35 @@ def test_one_figure_by_name(workdir):
 
 def test_truncated_netcdf_input_is_named(workdir):
     """A truncated intermediate stops the dependent rule with a message naming the file."""
-    eq = workdir / "results/equilibrium/thermal_M0.9.nc"
+    eq = workdir / "results/smoke/equilibrium/thermal_M0.9.nc"
     good = eq.read_bytes()
     try:
         eq.write_bytes(good[: len(good) // 3])
         r = snakemake(
-            ["-j1", "results/orbits/thermal_M0.9.nc", "-f", "--configfile", "config/smoke.yaml"],
+            [
+                "-j1",
+                "results/smoke/orbits/thermal_M0.9.nc",
+                "-f",
+                "--configfile",
+                "config/smoke.yaml",
+            ],
             workdir,
             timeout=300,
         )
         assert r.returncode != 0
-        log = (workdir / "logs/orbits/thermal_M0.9.log").read_text() + r.stderr
+        log = (workdir / "logs/smoke/orbits/thermal_M0.9.log").read_text() + r.stderr
         assert "thermal_M0.9.nc: not a readable netCDF file" in log
         assert "truncated or corrupt" in log
     finally:
         eq.write_bytes(good)
         snakemake(
-            ["-j1", "results/orbits/thermal_M0.9.nc", "-f", "--configfile", "config/smoke.yaml"],
+            [
+                "-j1",
+                "results/smoke/orbits/thermal_M0.9.nc",
+                "-f",
+                "--configfile",
+                "config/smoke.yaml",
+            ],
             workdir,
             timeout=300,
         )

@@ -1,12 +1,12 @@
 rule closed_forms:
     """The paper's closed forms for one case: sech^4 Landau D, two-step and appendix-C eps and D."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         lib=lib("closed_forms.py"),
     output:
-        "results/analytic/{case}.nc",
+        RES + "/analytic/{case}.nc",
     log:
-        "logs/analytic/{case}.log",
+        LOG + "/analytic/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

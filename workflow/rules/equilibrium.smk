@@ -3,9 +3,9 @@ rule equilibrium:
     input:
         lib=lib("equilibrium.py"),
     output:
-        "results/equilibrium/{case}.nc",
+        RES + "/equilibrium/{case}.nc",
     log:
-        "logs/equilibrium/{case}.log",
+        LOG + "/equilibrium/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

@@ -11,7 +11,7 @@ def figure_inputs(wildcards):
     """Input files of one figure: a list per kind of input, and the library it draws with."""
     fig = FIGURES[wildcards.name]
     files = {
-        kind: [f"results/{path}" for path in paths]
+        kind: [f"{RES}/{path}" for path in paths]
         for kind, paths in fig.input_files(figure_spec(wildcards.name)).items()
     }
     files["lib"] = lib("figure.py")
@@ -25,5 +25,5 @@ def figure_names():
 
 def figure_targets():
     return expand(
-        "results/figures/{name}.{ext}", name=figure_names(), ext=["pdf", "png"]
+        RES + "/figures/{name}.{ext}", name=figure_names(), ext=["pdf", "png"]
     )

@@ -3,9 +3,9 @@ rule figure:
     input:
         unpack(figure_inputs),
     output:
-        pdf="results/figures/{name}.pdf",
+        pdf=RES + "/figures/{name}.pdf",
         png=report(
-            "results/figures/{name}.png",
+            RES + "/figures/{name}.png",
             caption="../report/figure.rst",
             category=lambda w: FIGURES[w.name].category,
             labels=lambda w: {
@@ -14,7 +14,7 @@ rule figure:
             },
         ),
     log:
-        "logs/figures/{name}.log",
+        LOG + "/figures/{name}.log",
     wildcard_constraints:
         name="|".join(FIGURES),
     conda:
@@ -37,6 +37,6 @@ for _name in figure_names():
         name:
             FIGURES[_name].target
         input:
-            f"results/figures/{_name}.pdf",
-            f"results/figures/{_name}.png",
+            f"{RES}/figures/{_name}.pdf",
+            f"{RES}/figures/{_name}.png",
         localrule: True

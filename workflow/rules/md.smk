@@ -7,7 +7,7 @@ rule kernels:
     output:
         directory(KERNELS),
     log:
-        "logs/kernels.log",
+        LOG + "/kernels.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
@@ -21,13 +21,13 @@ rule kernels:
 rule md:
     """One MD realisation (seed): MD(bath) or MD(full), with <dJ^2> accumulated on the fly."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         kernels=KERNELS,
         lib=lib("md.py"),
     output:
-        "results/md/{case}/{dynamics}/seed{seed}.nc",
+        RES + "/md/{case}/{dynamics}/seed{seed}.nc",
     log:
-        "logs/md/{case}/{dynamics}/seed{seed}.log",
+        LOG + "/md/{case}/{dynamics}/seed{seed}.log",
     wildcard_constraints:
         dynamics="bath|full",
         seed=r"\d+",
@@ -49,9 +49,9 @@ rule fit:
         seeds=lambda w: md_files(w.case, w.dynamics),
         lib=lib("fit.py"),
     output:
-        "results/fits/{case}_{dynamics}.nc",
+        RES + "/fits/{case}_{dynamics}.nc",
     log:
-        "logs/fits/{case}_{dynamics}.log",
+        LOG + "/fits/{case}_{dynamics}.log",
     wildcard_constraints:
         dynamics="bath|full",
     conda:
@@ -70,13 +70,13 @@ rule windowed:
     """The theory's finite-time <dJ^2> fitted over the MD fit's own lags and window, bare for
     MD(bath), dressed for MD(full), averaged over each bin like ND_md."""
     input:
-        fit="results/fits/{case}_{dynamics}.nc",
-        equilibrium="results/equilibrium/{case}.nc",
+        fit=RES + "/fits/{case}_{dynamics}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         lib=lib("windowed.py"),
     output:
-        "results/windowed/{case}_{dynamics}.nc",
+        RES + "/windowed/{case}_{dynamics}.nc",
     log:
-        "logs/windowed/{case}_{dynamics}.log",
+        LOG + "/windowed/{case}_{dynamics}.log",
     wildcard_constraints:
         dynamics="bath|full",
     conda:
@@ -96,26 +96,24 @@ rule windowed:
 rule validation:
     """results/validation.csv: MD against theory per case, dynamics and bin, and a summary."""
     input:
-        fits=[f"results/fits/{c}_{d}.nc" for c in md_cases() for d in ("bath", "full")],
-        theory=[f"results/theory/{c}.nc" for c in md_cases() for d in ("bath", "full")],
+        fits=[f"{RES}/fits/{c}_{d}.nc" for c in md_cases() for d in ("bath", "full")],
+        theory=[f"{RES}/theory/{c}.nc" for c in md_cases() for d in ("bath", "full")],
         equilibrium=[
-            f"results/equilibrium/{c}.nc" for c in md_cases() for d in ("bath", "full")
+            f"{RES}/equilibrium/{c}.nc" for c in md_cases() for d in ("bath", "full")
         ],
         windowed=[
-            f"results/windowed/{c}_{d}.nc"
-            for c in md_cases()
-            for d in ("bath", "full")
+            f"{RES}/windowed/{c}_{d}.nc" for c in md_cases() for d in ("bath", "full")
         ],
         lib=lib("validation.py"),
     output:
         table=report(
-            "results/validation.csv",
+            RES + "/validation.csv",
             caption="../report/validation.rst",
             category="Validation",
         ),
-        summary="results/validation_summary.txt",
+        summary=RES + "/validation_summary.txt",
     log:
-        "logs/validation.log",
+        LOG + "/validation.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
@@ -124,6 +122,7 @@ rule validation:
         runtime=15,
     params:
         cases=[c for c in md_cases() for d in ("bath", "full")],
+        sizes={c: MD_RUNS[(c, "full")].n_particles for c in md_cases()},
     script:
         "../scripts/validation.py"
 
@@ -133,14 +132,14 @@ rule spectrum:
     against the bare and dressed bath spectra; harmonics n' <= max(8, theory n_max): fewer
     leave out the slow orbits' high harmonics that fill the low frequencies."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         bath=lambda w: md_files(w.case, "bath"),
         full=lambda w: md_files(w.case, "full"),
         lib=lib("spectrum.py"),
     output:
-        "results/spectrum/{case}.nc",
+        RES + "/spectrum/{case}.nc",
     log:
-        "logs/spectrum/{case}.log",
+        LOG + "/spectrum/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
@@ -157,13 +156,13 @@ rule spectrum:
 rule md_scaling:
     """One MD realisation of the 1/N study (config md_scaling) at N = {n}."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         kernels=KERNELS,
         lib=lib("md.py"),
     output:
-        "results/scaling/{case}/{dynamics}/N{n}/seed{seed}.nc",
+        RES + "/scaling/{case}/{dynamics}/N{n}/seed{seed}.nc",
     log:
-        "logs/scaling/{case}/{dynamics}/N{n}/seed{seed}.log",
+        LOG + "/scaling/{case}/{dynamics}/N{n}/seed{seed}.log",
     wildcard_constraints:
         dynamics="bath|full",
         n=r"\d+",
@@ -186,9 +185,9 @@ rule fit_scaling:
         seeds=lambda w: scaling_files(w.case, w.dynamics, w.n),
         lib=lib("fit.py"),
     output:
-        "results/scaling/{case}/{dynamics}/N{n}/fit.nc",
+        RES + "/scaling/{case}/{dynamics}/N{n}/fit.nc",
     log:
-        "logs/scaling/{case}/{dynamics}/N{n}/fit.log",
+        LOG + "/scaling/{case}/{dynamics}/N{n}/fit.log",
     wildcard_constraints:
         dynamics="bath|full",
         n=r"\d+",
@@ -210,14 +209,13 @@ rule scaling:
     """results/scaling/{case}_{dynamics}.nc: N*D_MD per bin against N (figure 15)."""
     input:
         fits=lambda w: [
-            f"results/scaling/{w.case}/{w.dynamics}/N{n}/fit.nc"
-            for n in scaling_sizes()
+            f"{RES}/scaling/{w.case}/{w.dynamics}/N{n}/fit.nc" for n in scaling_sizes()
         ],
         lib=lib("scaling.py"),
     output:
-        "results/scaling/{case}_{dynamics}.nc",
+        RES + "/scaling/{case}_{dynamics}.nc",
     log:
-        "logs/scaling/{case}_{dynamics}.log",
+        LOG + "/scaling/{case}_{dynamics}.log",
     wildcard_constraints:
         dynamics="bath|full",
     conda:

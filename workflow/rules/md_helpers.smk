@@ -7,7 +7,7 @@ from hmfdiff.dynamics.settings import md_runs, md_scaling_runs
 MD_RUNS = md_runs(config)
 MD_SCALING = md_scaling_runs(config)  # {(dynamics, N): MDRun} of the 1/N study, or {}
 # the shared numba cache of the MD kernels of this version of the dynamics sources
-KERNELS = f"results/kernels/{kernel_version()}"
+KERNELS = f"{RES}/kernels/{kernel_version()}"
 
 
 def md_cases():
@@ -22,7 +22,7 @@ def md_run(case, dynamics):
 
 def md_files(case, dynamics):
     n = md_run(case, dynamics).seeds
-    return [f"results/md/{case}/{dynamics}/seed{s}.nc" for s in range(n)]
+    return [f"{RES}/md/{case}/{dynamics}/seed{s}.nc" for s in range(n)]
 
 
 def md_fit_spec(case):
@@ -49,4 +49,4 @@ def scaling_sizes():
 
 def scaling_files(case, dynamics, n):
     seeds = scaling_run(dynamics, n).seeds
-    return [f"results/scaling/{case}/{dynamics}/N{n}/seed{s}.nc" for s in range(seeds)]
+    return [f"{RES}/scaling/{case}/{dynamics}/N{n}/seed{s}.nc" for s in range(seeds)]

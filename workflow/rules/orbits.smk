@@ -1,12 +1,12 @@
 rule orbits:
     """Action-angle variables J, Omega, derivatives and Fourier coefficients c_n, s_n on a kappa grid."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         lib=lib("orbits.py"),
     output:
-        "results/orbits/{case}.nc",
+        RES + "/orbits/{case}.nc",
     log:
-        "logs/orbits/{case}.log",
+        LOG + "/orbits/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

@@ -1,12 +1,12 @@
 rule relaxation:
     """Collisional relaxation f(J-bar, tau) of one case by the Landau or Lenard-Balescu equation."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         lib=lib("relaxation.py"),
     output:
-        "results/relaxation/{case}_{equation}.nc",
+        RES + "/relaxation/{case}_{equation}.nc",
     log:
-        "logs/relaxation/{case}_{equation}.log",
+        LOG + "/relaxation/{case}_{equation}.log",
     wildcard_constraints:
         equation="landau|lenard_balescu",
     conda:

@@ -22,7 +22,7 @@ def relaxation_cases():
 def relaxation_files():
     equations = config.get("relaxation", {}).get("equations", [])
     return [
-        f"results/relaxation/{c}_{e}.nc" for c in relaxation_cases() for e in equations
+        f"{RES}/relaxation/{c}_{e}.nc" for c in relaxation_cases() for e in equations
     ]
 
 

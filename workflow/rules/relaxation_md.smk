@@ -1,12 +1,12 @@
 rule relaxation_md:
     """An ensemble of N-body relaxations (full dynamics) of one case at one N."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         lib=lib("relaxation_md.py"),
     output:
-        "results/relaxation_md/{case}/N{n}.nc",
+        RES + "/relaxation_md/{case}/N{n}.nc",
     log:
-        "logs/relaxation_md/{case}/N{n}.log",
+        LOG + "/relaxation_md/{case}/N{n}.log",
     wildcard_constraints:
         n=r"\d+",
     conda:
@@ -26,13 +26,11 @@ rule relaxation_comparison:
     input:
         unpack(relaxation_comparison_inputs),
     output:
-        table="results/relaxation_comparison.csv",
-        summary="results/relaxation_comparison_summary.txt",
-        datasets=[
-            f"results/relaxation_comparison/{c}.nc" for c in relaxation_md_cases()
-        ],
+        table=RES + "/relaxation_comparison.csv",
+        summary=RES + "/relaxation_comparison_summary.txt",
+        datasets=[f"{RES}/relaxation_comparison/{c}.nc" for c in relaxation_md_cases()],
     log:
-        "logs/relaxation_comparison.log",
+        LOG + "/relaxation_comparison.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

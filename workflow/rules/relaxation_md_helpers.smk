@@ -11,7 +11,7 @@ def relaxation_md_sizes(case):
 
 def relaxation_md_files():
     return [
-        f"results/relaxation_md/{c}/N{n}.nc"
+        f"{RES}/relaxation_md/{c}/N{n}.nc"
         for c in relaxation_md_cases()
         for n in relaxation_md_sizes(c)
     ]
@@ -38,8 +38,8 @@ def relaxation_comparison_inputs(wildcards=None):
     equations = config.get("relaxation", {}).get("equations", [])
     return {
         "md": relaxation_md_files(),
-        "kinetic": [f"results/relaxation/{c}_{e}.nc" for c in cases for e in equations],
-        "equilibrium": [f"results/equilibrium/{c}.nc" for c in cases],
+        "kinetic": [f"{RES}/relaxation/{c}_{e}.nc" for c in cases for e in equations],
+        "equilibrium": [f"{RES}/equilibrium/{c}.nc" for c in cases],
         "lib": lib("relaxation_comparison.py"),
     }
 
@@ -49,6 +49,6 @@ def relaxation_comparison_outputs():
     if not cases:
         return []
     return [
-        "results/relaxation_comparison.csv",
-        "results/relaxation_comparison_summary.txt",
-    ] + [f"results/relaxation_comparison/{c}.nc" for c in cases]
+        RES + "/relaxation_comparison.csv",
+        RES + "/relaxation_comparison_summary.txt",
+    ] + [f"{RES}/relaxation_comparison/{c}.nc" for c in cases]

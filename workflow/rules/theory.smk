@@ -1,12 +1,12 @@
 rule theory:
     """Dielectric tensor, Landau and Lenard-Balescu N*D_dif and N*D_pol, resonance contributions."""
     input:
-        equilibrium="results/equilibrium/{case}.nc",
+        equilibrium=RES + "/equilibrium/{case}.nc",
         lib=lib("theory.py"),
     output:
-        "results/theory/{case}.nc",
+        RES + "/theory/{case}.nc",
     log:
-        "logs/theory/{case}.log",
+        LOG + "/theory/{case}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
