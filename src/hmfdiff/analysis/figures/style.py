@@ -1,7 +1,7 @@
 """Shared look of the figures: saving with provenance, panel labels, numbers, axis labels.
 
-Units: the HMF model is written with unit mass and unit coupling (H = sum p^2/2 + (1/2N) sum
-[1 - cos(theta_i - theta_j)]), so time, momentum, action and frequency are pure numbers in
+Units: the HMF model is written with unit mass and unit coupling (H = sum p^2/2 - (1/2N) sum
+cos(theta_i - theta_j)), so time, momentum, action and frequency are pure numbers in
 those "HMF units"; axis labels say so for every dimensional quantity, give radians for angles
 and no unit for pure numbers (kappa, eps, ratios).
 """
