@@ -56,7 +56,7 @@ def test_discrete_current_converges_to_the_fokker_planck_current(hot, equation):
     Fokker-Planck current of the analytic state, away from the separatrix band (where the
     continuum current changes by orders of magnitude within the grid spacing)."""
     s = RelaxationSettings(equation=equation, n_nodes=300, kappa_max=3.5)
-    grid = action_grid(hot.M0, s.n_nodes, s.kappa_max, hot, s.feature_share)
+    grid = action_grid(hot.M0, s.n_nodes, s.kappa_max, hot, s.feature_share, s.separatrix_share)
     f, M0 = project_state(hot, grid)
     oper = _Operator(grid, f, M0, s)
     G = oper.op.face_flux(np.log(f)) / (4 * np.pi)
@@ -65,8 +65,9 @@ def test_discrete_current_converges_to_the_fokker_planck_current(hot, equation):
     kf = oper.geom.kappa_face
     sel = (np.abs(kf - 1) > 0.05) & (np.abs(ref) > 1e-3 * np.nanmax(np.abs(ref)))
     err = np.abs(G[sel] / ref[sel] - 1)
-    assert sel.sum() > 100
-    assert np.median(err) < 0.02 and np.percentile(err, 90) < 0.1
+    assert sel.sum() > 50
+    # measured: median 0.6 % (Landau), 0.2 % (Lenard-Balescu); 90th percentile 2.8 %, 0.9 %
+    assert np.median(err) < 0.02 and np.percentile(err, 90) < 0.06
 
 
 @pytest.mark.parametrize("equation", EQUATIONS)

@@ -79,27 +79,36 @@ def _feature_density(state, kappa):
     return np.sqrt(np.abs(d2)) * 4.0 * M0 * kappa
 
 
-def action_grid(M0, n_nodes, kappa_max, state=None, feature_share=0.5):
+def action_grid(M0, n_nodes, kappa_max, state=None, feature_share=0.25, separatrix_share=0.4):
     """n_nodes cell-centred J-bar nodes on (0, J-bar(kappa_max)) at magnetisation M0.
 
-    Without a state, uniform in kappa.  With a state F(h), a share `feature_share` of the nodes
-    is placed by equidistributing sqrt|d^2 ln F/dh^2| (the steep edges of a core-halo state,
-    where the dielectric tensor needs ln f resolved), the rest uniformly in kappa.
+    Uniform in kappa, except that with a state F(h) a share `feature_share` of the nodes is
+    placed by equidistributing sqrt|d^2 ln F/dh^2| (the steep edges of a core-halo state,
+    where the dielectric tensor needs ln f resolved) and a share `separatrix_share` with a
+    density 1/(|kappa - 1| + 0.01) (the rotating orbits just above the separatrix span every
+    frequency from 0 to Omega_0: they are the resonant partners of the core).  The density is
+    smoothed over 0.02 in kappa, so that neighbouring cells differ little in size (the node
+    quadrature is second order only on a smooth grid).
     """
     if n_nodes < 8 or not kappa_max > 1.0:
         raise ValueError(f"action grid: n_nodes = {n_nodes} must be >= 8, kappa_max > 1")
     u = (np.arange(n_nodes) + 0.5) / n_nodes
     kappa = u * kappa_max
-    if state is not None and feature_share > 0:
+    if state is not None:
         kf = np.linspace(0.0, kappa_max, 20001)
+        uniform = 1.0 - feature_share - separatrix_share
+        parts = [(uniform, np.ones_like(kf)), (separatrix_share, 1.0 / (np.abs(kf - 1.0) + 0.01))]
         dens = _feature_density(state, kf)
-        total = np.trapezoid(dens, kf)
-        if total > 1e-12 * kappa_max:
-            density = (1.0 - feature_share) / kappa_max + feature_share * dens / total
-            cdf = np.concatenate(
-                ([0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(kf)))
-            )
-            kappa = np.interp(u * cdf[-1], cdf, kf)
+        if np.trapezoid(dens, kf) > 1e-12 * kappa_max:
+            parts.append((feature_share, dens))
+        else:  # thermal: no steep edge
+            parts[0] = (uniform + feature_share, parts[0][1])
+        density = sum(w * p / np.trapezoid(p, kf) for w, p in parts if w > 0)
+        width = 0.02 / (kf[1] - kf[0])
+        kernel = np.exp(-0.5 * (np.arange(-4 * width, 4 * width + 1) / width) ** 2)
+        density = np.convolve(density, kernel / kernel.sum(), mode="same")
+        cdf = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(kf))))
+        kappa = np.interp(u * cdf[-1], cdf, kf)
     kappa = np.where(np.abs(kappa - 1.0) < 1e-9, 1.0 + 1e-9, kappa)
     jbar = orbits.rescaled_action(kappa, M0)
     edges = np.concatenate(([0.0], 0.5 * (jbar[1:] + jbar[:-1]), [1.5 * jbar[-1] - 0.5 * jbar[-2]]))
@@ -217,7 +226,8 @@ class RelaxationSettings:
     dtau_first: float = 0.0  # 0: from the initial rate
     max_steps: int = 2000
     flux_times: tuple = (0.0,)
-    feature_share: float = 0.5
+    feature_share: float = 0.25
+    separatrix_share: float = 0.4
     eps_panels: int = 48
     eps_order: int = 20
     eps_refresh: float = 0.01
@@ -364,7 +374,7 @@ def evolve(state, settings, progress=None):
     """
     s = settings
     t0 = time.perf_counter()
-    grid = action_grid(state.M0, s.n_nodes, s.kappa_max, state, s.feature_share)
+    grid = action_grid(state.M0, s.n_nodes, s.kappa_max, state, s.feature_share, s.separatrix_share)
     f, M0 = project_state(state, grid)
     y = np.log(f)
     vol = grid.volume

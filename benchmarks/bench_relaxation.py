@@ -1,0 +1,134 @@
+"""Cost and convergence of the collisional relaxation (issue 13).
+
+    python benchmarks/bench_relaxation.py                    # ch2*: one evolution per equation
+    python benchmarks/bench_relaxation.py --study nmax       # ch2*: dependence on n_max
+    python benchmarks/bench_relaxation.py --study convergence --case hot
+
+Runs on one core (BLAS threads pinned to 1 before numpy is imported).  The default prints the
+wall time of one evolution from ch2* to thermalisation (max |f - f_eq| < thermal_tol max f_eq)
+at the default settings of config/config.yaml (300 J-bar nodes, n_max = l_max = 6,
+rtol = thermal_tol = 1e-3) and the cost of one evaluation of the collision operator (orbits,
+resonances and, for Lenard-Balescu, the dielectric tensor) and of the current it gives.
+`--study nmax` prints the initial entropy production and the relaxation time against n_max;
+`--study convergence` the largest change of M0(tau) when rtol is halved and when the grid is
+refined by 1.5.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from hmfdiff.kinetic.relaxation import (  # noqa: E402
+    RelaxationSettings,
+    _Operator,
+    action_grid,
+    evolve,
+    project_state,
+)
+from hmfdiff.meanfield.equilibrium import make_state  # noqa: E402
+from hmfdiff.pipeline.kinetic_relaxation_layout import relaxation_times  # noqa: E402
+
+CASES = {
+    "ch2": (
+        dict(
+            kind="core_halo", eta1=0.298, eta2=0.051, mu1=-0.517, mu2=0.19, beta1=30.0, beta2=10.0
+        ),
+        2.5,
+    ),
+    "hot": (
+        dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0),
+        3.5,
+    ),
+}
+EQUATIONS = ("landau", "lenard_balescu")
+
+
+def settings(case, equation, **kw):
+    base = dict(equation=equation, n_nodes=300, kappa_max=CASES[case][1], tau_max=1e5)
+    base.update(rtol=1e-3, thermal_tol=1e-3)
+    base.update(kw)
+    return RelaxationSettings(**base)
+
+
+def run(case, equation, **kw):
+    state = make_state(CASES[case][0])
+    t0 = time.perf_counter()
+    out = evolve(state, settings(case, equation, **kw))
+    return out, time.perf_counter() - t0
+
+
+def flux_cost(case, equation, repeat=3):
+    state = make_state(CASES[case][0])
+    s = settings(case, equation)
+    grid = action_grid(state.M0, s.n_nodes, s.kappa_max, state, s.feature_share)
+    f, M0 = project_state(state, grid)
+    t0 = time.perf_counter()
+    for _ in range(repeat):
+        op = _Operator(grid, f, M0, s).op
+        op.face_flux(np.log(f))
+    return (time.perf_counter() - t0) / repeat
+
+
+def describe(out, wall):
+    tau_e, tau_rate = relaxation_times(out)
+    u = out["u"]
+    return (
+        f"{wall:7.1f} s, {out['n_steps']} steps ({out['n_rejected']} rejected), "
+        f"tau_end = {out['tau'][-1]:.4g}, thermalised: {out['thermalised']}; "
+        f"tau_R(entropy/e) = {tau_e:.4g}, (S_eq - S0)/Sdot0 = {tau_rate:.4g}; "
+        f"M0 {out['M0'][0]:.6f} -> {out['M0'][-1]:.6f} (thermal on the grid {out['M0_eq']:.6f}); "
+        f"|d mass| = {np.max(np.abs(out['mass'] - out['mass'][0])):.1e}, "
+        f"|d u|/|u| = {np.max(np.abs(u - u[0])) / abs(u[0]):.1e}"
+    )
+
+
+def max_M0_change(a, b):
+    """Largest |M0_a(tau) - M0_b(tau)| over the common tau range (interpolated in log tau)."""
+    ta, tb = a["tau"][1:], b["tau"][1:]
+    lo, hi = max(ta[0], tb[0]), min(ta[-1], tb[-1])
+    t = np.geomspace(lo, hi, 400)
+    Ma = np.interp(np.log(t), np.log(ta), a["M0"][1:])
+    Mb = np.interp(np.log(t), np.log(tb), b["M0"][1:])
+    return float(np.max(np.abs(Ma - Mb)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--study", choices=["time", "nmax", "convergence"], default="time")
+    ap.add_argument("--case", choices=sorted(CASES), default="ch2")
+    ap.add_argument("--equations", nargs="+", choices=EQUATIONS, default=list(EQUATIONS))
+    args = ap.parse_args()
+    if args.study == "time":
+        for eq in args.equations:
+            print(f"{args.case} {eq}: one operator + current {flux_cost(args.case, eq):.3f} s")
+            out, wall = run(args.case, eq)
+            print(f"{args.case} {eq}: evolution {describe(out, wall)}")
+    elif args.study == "nmax":
+        for eq in args.equations:
+            for n_max in (4, 6, 8):
+                out, wall = run(args.case, eq, n_max=n_max)
+                head = f"{args.case} {eq} n_max={n_max}: Sdot0 = {out['Sdot'][0]:.4g}"
+                print(f"{head}; {describe(out, wall)}")
+    else:
+        for eq in args.equations:
+            ref, wall = run(args.case, eq)
+            print(f"{args.case} {eq} reference: {describe(ref, wall)}")
+            half, wall = run(args.case, eq, rtol=5e-4)
+            print(
+                f"  rtol/2: max |dM0(tau)| = {max_M0_change(ref, half):.2e}; {describe(half, wall)}"
+            )
+            fine, wall = run(args.case, eq, n_nodes=450)
+            change = max_M0_change(ref, fine)
+            print(f"  450 nodes: max |dM0(tau)| = {change:.2e}; {describe(fine, wall)}")
+
+
+if __name__ == "__main__":
+    main()
