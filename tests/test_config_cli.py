@@ -73,6 +73,7 @@ CH2 = {"kind": "core_halo", "eta1": 0.298, "eta2": 0.051, "mu1": -0.517, "mu2": 
 RUN = "md__runs__thermal_u-0.1"
 M09 = "  thermal_M0.9: {kind: thermal, M0: 0.9}\n"
 TWICE = text_with(M09, M09 + "  thermal_M0.9: {kind: thermal, M0: 0.5}\n")
+M09_LINE = TWICE.splitlines().index(M09.rstrip("\n")) + 1  # 1-based line of the first one
 CASE_ONLY = text_with(M09, M09 + "  Thermal_M0.9: {kind: thermal, M0: 0.5}\n")
 NO_M0 = {**CH2, "mu1": 1.0, "mu2": 2.0, "eta1": 0.05, "eta2": 0.01, "beta1": 0.5, "beta2": 0.5}
 FIG7 = {"core_halo": ["corehalo_ch2"], "two_step": "thermal_M0.9", "thermal": "thermal_M0.9"}
@@ -108,7 +109,12 @@ BAD = [
         [],
         ["case 'corehalo_ch2'", "'mu1' = 0.3", "below mu2 = 0.19"],
     ),
-    ("duplicate_case", TWICE, [], ["line 5", "'thermal_M0.9' is given twice", "first at line 4"]),
+    (
+        "duplicate_case",
+        TWICE,
+        [],
+        [f"line {M09_LINE + 1}", "'thermal_M0.9' is given twice", f"first at line {M09_LINE}"],
+    ),
     (
         "unknown_key_typo",
         text_with("  seeds: 2\n", "  n_seed: 2\n"),
