@@ -99,6 +99,10 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
         "ratio",
         "z",
         "flag",
+        "ND_windowed",
+        "ratio_windowed",
+        "z_windowed",
+        "ND_spectrum",
     ]
     assert {r["dynamics"] for r in rows} == {"bath", "full"}
     figures = [name for name in FIGURES if name in smoke["figures"]]
