@@ -51,6 +51,7 @@ from dataclasses import dataclass, field
 from .fluctuation_figures import fig14_spectrum, fig15_scaling
 from .md_figures import fig08_dj2, fig09_md_thermal, fig10_md_corehalo
 from .orbit_figures import fig01_orbits, fig02_action_frequency, fig03_poles
+from .relaxation_figures import fig11_relaxation
 from .relaxation_md_figures import fig12_relaxation_md, fig13_relaxation_time
 from .theory_figures import (
     fig04_contributions,
@@ -258,6 +259,24 @@ _FIGURE_LIST = (
         "Fig. 10 (fig:hmfch): the same for the core-halo state ch2* (beta1 = 30, beta2 = 10, "
         "eta1 = 0.298, eta2 = 0.051, mu1 = -0.517, mu2 = 0.19, M0 = 0.8).",
         _MD_CAT,
+    ),
+    Figure(
+        "fig11_relaxation",
+        "fig11",
+        fig11_relaxation,
+        (
+            Inputs(
+                "relaxation",
+                "relaxation/{case}_{equation}.nc",
+                defaults={"equation": ("landau", "lenard_balescu")},
+            ),
+        ),
+        "Fig. 11: collisional relaxation by the kinetic equations at order 1/N (eq. hmflb in "
+        "conservation form, the paper's Conclusions), with M0 solved self-consistently at every "
+        "step: per case, f(J-bar) at several rescaled times tau = t/N under the Landau (bare) "
+        "and Lenard-Balescu (dressed) equations against the thermal state of the same energy "
+        "(dotted), and M0(tau) and the entropy S(tau) for both equations.",
+        _RELAX_CAT,
     ),
     Figure(
         "fig12_relaxation_md",
