@@ -216,7 +216,7 @@ class RelaxationSettings:
     """Numerical settings of one evolution (every one is stored with the result)."""
 
     equation: str = "lenard_balescu"
-    n_nodes: int = 300
+    n_nodes: int = 600
     kappa_max: float = 3.0
     n_max: int = 6
     l_max: int = 6
