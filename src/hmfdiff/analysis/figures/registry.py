@@ -20,7 +20,7 @@ Contract (how to add a figure, e.g. figure 11):
            (Inputs("relaxation", "relaxation/{case}_{equation}.nc",
                    defaults={"equation": ("landau", "lenard_balescu")}),),
            "Fig. 11: ... (eqs. hmflb, ...).",  # caption shown in the report
-           "4. Relaxation (figures 11-15)",    # report section; the number orders the menu
+           "4. Relaxation (figures 11-13)",    # report section; the number orders the menu
        )
 
 3. Give it an entry under `figures:` in the config (and the schema) naming its cases, e.g.
@@ -154,7 +154,7 @@ _ORBIT_CAT = "1. Mean-field orbits (figures 1-3)"
 _THEORY_CAT = "2. Kinetic theory (figures 4-7)"
 _MD_CAT = "3. Molecular dynamics against theory (figures 8-10)"
 _PRECISION_CAT = "5. MD precision: fluctuation spectrum and 1/N scaling (figures 14-15)"
-_RELAX_CAT = "4. Relaxation (figures 11-15)"
+_RELAX_CAT = "4. Relaxation (figures 11-13)"
 
 _FIGURE_LIST = (
     Figure(
