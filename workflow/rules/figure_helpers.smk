@@ -18,6 +18,13 @@ def figure_inputs(wildcards):
     return files
 
 
+def caption_rst(name):
+    """The registry's caption of one figure as literal reStructuredText for the report: its
+    |eps_cc|, c_n' and * would otherwise be read as substitutions, references and emphasis."""
+    special = "\\`*_|"
+    return "".join("\\" + c if c in special else c for c in FIGURES[name].caption)
+
+
 def figure_names():
     """Figures of the registry that the config asks for, in the registry's order."""
     return [name for name in FIGURES if name in config["figures"]]

@@ -25,7 +25,7 @@ rule figure:
         runtime=15,
     params:
         spec=lambda w: json.dumps(figure_spec(w.name), sort_keys=True),
-        caption=lambda w: FIGURES[w.name].caption,
+        caption=lambda w: caption_rst(w.name),
     script:
         "../scripts/figure.py"
 
