@@ -26,12 +26,11 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from hmfdiff.kinetic.grid import action_grid, project_state  # noqa: E402
 from hmfdiff.kinetic.relaxation import (  # noqa: E402
     RelaxationSettings,
     _Operator,
-    action_grid,
     evolve,
-    project_state,
 )
 from hmfdiff.meanfield.equilibrium import make_state  # noqa: E402
 from hmfdiff.pipeline.kinetic_relaxation_layout import relaxation_times  # noqa: E402

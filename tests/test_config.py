@@ -220,7 +220,7 @@ def test_schema_defaults_fill_in_what_is_left_out_and_equal_the_library_defaults
 
 def test_run_overrides_inherit_the_md_section_not_the_schema_defaults():
     """The schema's md defaults fill the md section only: a run inherits the section's value."""
-    from hmfdiff.dynamics.settings import md_runs
+    from hmfdiff.dynamics.runs import md_runs
 
     cfg = copy.deepcopy(SMOKE)
     cfg["md"]["t_equilibrate"] = 2.0
@@ -366,7 +366,7 @@ def test_n_particles_at_least_the_mean_field_minimum():
 def test_memory_refused_before_allocation(monkeypatch):
     """A run whose memory estimate (MDRun.memory_mb) exceeds the machine's is refused while
     checking, before anything is allocated."""
-    from hmfdiff.dynamics.settings import md_runs
+    from hmfdiff.dynamics.runs import md_runs
     from hmfdiff.pipeline import config as config_module
 
     cfg = copy.deepcopy(SMOKE)

@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hmfdiff.dynamics.settings import WORKFLOW_FIELDS, MDRun, md_runs
+from hmfdiff.dynamics.runs import md_runs
+from hmfdiff.dynamics.settings import WORKFLOW_FIELDS, MDRun
 from hmfdiff.errors import ConfigError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -197,7 +198,7 @@ def test_precision_settings_and_their_derived_counts():
 
 
 def test_md_scaling_runs():
-    from hmfdiff.dynamics.settings import md_scaling_runs
+    from hmfdiff.dynamics.runs import md_scaling_runs
 
     runs = md_scaling_runs(SMOKE)
     sc = SMOKE["md_scaling"]

@@ -7,12 +7,11 @@ import pytest
 
 from hmfdiff.kinetic.collision import CollisionOperator, geometry, resonance_events
 from hmfdiff.kinetic.flux import fokker_planck_current, fokker_planck_jbar_current, hmflb_current
+from hmfdiff.kinetic.grid import action_grid, project_state
 from hmfdiff.kinetic.relaxation import (
     RelaxationSettings,
     _Operator,
-    action_grid,
     evolve,
-    project_state,
 )
 from hmfdiff.meanfield import orbits
 from hmfdiff.meanfield.equilibrium import (

@@ -20,7 +20,8 @@ def figure_inputs(wildcards):
 
 def caption_rst(name):
     """The registry's caption of one figure as literal reStructuredText for the report: its
-    |eps_cc|, c_n' and * would otherwise be read as substitutions, references and emphasis."""
+    |eps_cc|, c_n' and * would otherwise be read as substitutions, references and emphasis.
+    """
     special = "\\`*_|"
     return "".join("\\" + c if c in special else c for c in FIGURES[name].caption)
 

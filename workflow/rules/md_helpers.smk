@@ -2,7 +2,7 @@
 # One MDRun record per (case, dynamics), built once from the config's md section (defaults
 # merged with each case's overrides); every md/fit rule setting below is read from it.
 from hmfdiff.dynamics.kernel_cache import kernel_version
-from hmfdiff.dynamics.settings import md_runs, md_scaling_runs
+from hmfdiff.dynamics.runs import md_runs, md_scaling_runs
 
 MD_RUNS = md_runs(config)
 MD_SCALING = md_scaling_runs(config)  # {(dynamics, N): MDRun} of the 1/N study, or {}

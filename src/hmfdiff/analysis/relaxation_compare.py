@@ -315,9 +315,7 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
 
 def summary_lines(summary):
     """Human-readable lines of a comparison summary."""
-    out = [
-        f"case {summary['case']}: coarse-grained thermal S = {summary['S_eq_coarse']:.5f}"
-    ]
+    out = [f"case {summary['case']}: coarse-grained thermal S = {summary['S_eq_coarse']:.5f}"]
     for eq, tau in summary["tau_relax_kinetic"].items():
         out.append(f"  {eq}: tau_R = {tau:.4g} (t_R = tau_R N)")
     for n, t in summary["t_relax_md"].items():

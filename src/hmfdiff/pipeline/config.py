@@ -13,7 +13,7 @@ is allowed:
    case-insensitive file system, mu1 < mu2 of a core-halo state, a self-consistent M0 for
    every state, MD only for states with a smooth f, the MD time step against the fastest
    orbital period of the state, N against the noise of the magnetisation, every MD run's
-   settings (`hmfdiff.dynamics.settings.md_runs`: whole multiples of dt, ...), its memory
+   settings (`hmfdiff.dynamics.runs.md_runs`: whole multiples of dt, ...), its memory
    estimate against this machine's, relaxation runs of smooth states, figures naming existing
    cases of the right kind.
 
@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.settings import md_runs
+from ..dynamics.runs import md_runs
 from ..errors import ConfigError
 from .schema import apply_schema, load_schema, load_yaml_file
 
