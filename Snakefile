@@ -77,11 +77,11 @@ onstart:
 rule all:
     default_target: True
     input:
-        expand(RES + "/equilibrium/{case}.nc", case=CASES),
-        expand(RES + "/orbits/{case}.nc", case=CASES),
-        expand(RES + "/theory/{case}.nc", case=theory_cases()),
-        expand(RES + "/analytic/{case}.nc", case=CASES),
-        RES + "/validation.csv",
+        expand(f"{RES}/equilibrium/{{case}}.nc", case=CASES),
+        expand(f"{RES}/orbits/{{case}}.nc", case=CASES),
+        expand(f"{RES}/theory/{{case}}.nc", case=theory_cases()),
+        expand(f"{RES}/analytic/{{case}}.nc", case=CASES),
+        f"{RES}/validation.csv",
         relaxation_files(),
         relaxation_md_files(),
         relaxation_comparison_outputs(),

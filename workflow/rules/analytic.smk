@@ -1,12 +1,12 @@
 rule closed_forms:
     """The paper's closed forms for one case: sech^4 Landau D, two-step and appendix-C eps and D."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         lib=lib("closed_forms.py"),
     output:
-        RES + "/analytic/{case}.nc",
+        f"{RES}/analytic/{{case}}.nc",
     log:
-        LOG + "/analytic/{case}.log",
+        f"{LOG}/analytic/{{case}}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

@@ -3,9 +3,9 @@ rule equilibrium:
     input:
         lib=lib("equilibrium.py"),
     output:
-        RES + "/equilibrium/{case}.nc",
+        f"{RES}/equilibrium/{{case}}.nc",
     log:
-        LOG + "/equilibrium/{case}.log",
+        f"{LOG}/equilibrium/{{case}}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

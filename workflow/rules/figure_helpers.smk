@@ -1,4 +1,6 @@
 # ---- figures: everything about them comes from the registry in src ----------------------
+import re
+
 from hmfdiff.analysis.figures.registry import FIGURES
 
 
@@ -22,8 +24,7 @@ def caption_rst(name):
     """The registry's caption of one figure as literal reStructuredText for the report: its
     |eps_cc|, c_n' and * would otherwise be read as substitutions, references and emphasis.
     """
-    special = "\\`*_|"
-    return "".join("\\" + c if c in special else c for c in FIGURES[name].caption)
+    return re.sub(r"([\\`*_|])", r"\\\1", FIGURES[name].caption)
 
 
 def figure_names():
@@ -33,5 +34,5 @@ def figure_names():
 
 def figure_targets():
     return expand(
-        RES + "/figures/{name}.{ext}", name=figure_names(), ext=["pdf", "png"]
+        f"{RES}/figures/{{name}}.{{ext}}", name=figure_names(), ext=["pdf", "png"]
     )

@@ -3,9 +3,9 @@ rule figure:
     input:
         unpack(figure_inputs),
     output:
-        pdf=RES + "/figures/{name}.pdf",
+        pdf=f"{RES}/figures/{{name}}.pdf",
         png=report(
-            RES + "/figures/{name}.png",
+            f"{RES}/figures/{{name}}.png",
             caption="../report/figure.rst",
             category=lambda w: FIGURES[w.name].category,
             labels=lambda w: {
@@ -14,7 +14,7 @@ rule figure:
             },
         ),
     log:
-        LOG + "/figures/{name}.log",
+        f"{LOG}/figures/{{name}}.log",
     wildcard_constraints:
         name="|".join(FIGURES),
     conda:

@@ -7,7 +7,7 @@ rule kernels:
     output:
         directory(KERNELS),
     log:
-        LOG + "/kernels.log",
+        f"{LOG}/kernels.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
@@ -21,13 +21,13 @@ rule kernels:
 rule md:
     """One MD realisation (seed): MD(bath) or MD(full), with <dJ^2> accumulated on the fly."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         kernels=KERNELS,
         lib=lib("md.py"),
     output:
-        RES + "/md/{case}/{dynamics}/seed{seed}.nc",
+        f"{RES}/md/{{case}}/{{dynamics}}/seed{{seed}}.nc",
     log:
-        LOG + "/md/{case}/{dynamics}/seed{seed}.log",
+        f"{LOG}/md/{{case}}/{{dynamics}}/seed{{seed}}.log",
     wildcard_constraints:
         dynamics="bath|full",
         seed=r"\d+",
@@ -49,9 +49,9 @@ rule fit:
         seeds=lambda w: md_files(w.case, w.dynamics),
         lib=lib("fit.py"),
     output:
-        RES + "/fits/{case}_{dynamics}.nc",
+        f"{RES}/fits/{{case}}_{{dynamics}}.nc",
     log:
-        LOG + "/fits/{case}_{dynamics}.log",
+        f"{LOG}/fits/{{case}}_{{dynamics}}.log",
     wildcard_constraints:
         dynamics="bath|full",
     conda:
@@ -70,13 +70,13 @@ rule windowed:
     """The theory's finite-time <dJ^2> fitted over the MD fit's own lags and window, bare for
     MD(bath), dressed for MD(full), averaged over each bin like ND_md."""
     input:
-        fit=RES + "/fits/{case}_{dynamics}.nc",
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        fit=f"{RES}/fits/{{case}}_{{dynamics}}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         lib=lib("windowed.py"),
     output:
-        RES + "/windowed/{case}_{dynamics}.nc",
+        f"{RES}/windowed/{{case}}_{{dynamics}}.nc",
     log:
-        LOG + "/windowed/{case}_{dynamics}.log",
+        f"{LOG}/windowed/{{case}}_{{dynamics}}.log",
     wildcard_constraints:
         dynamics="bath|full",
     conda:
@@ -107,13 +107,13 @@ rule validation:
         lib=lib("validation.py"),
     output:
         table=report(
-            RES + "/validation.csv",
+            f"{RES}/validation.csv",
             caption="../report/validation.rst",
             category="Validation",
         ),
-        summary=RES + "/validation_summary.txt",
+        summary=f"{RES}/validation_summary.txt",
     log:
-        LOG + "/validation.log",
+        f"{LOG}/validation.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
@@ -132,14 +132,14 @@ rule spectrum:
     against the bare and dressed bath spectra; harmonics n' <= max(8, theory n_max): fewer
     leave out the slow orbits' high harmonics that fill the low frequencies."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         bath=lambda w: md_files(w.case, "bath"),
         full=lambda w: md_files(w.case, "full"),
         lib=lib("spectrum.py"),
     output:
-        RES + "/spectrum/{case}.nc",
+        f"{RES}/spectrum/{{case}}.nc",
     log:
-        LOG + "/spectrum/{case}.log",
+        f"{LOG}/spectrum/{{case}}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
@@ -156,13 +156,13 @@ rule spectrum:
 rule md_scaling:
     """One MD realisation of the 1/N study (config md_scaling) at N = {n}."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         kernels=KERNELS,
         lib=lib("md.py"),
     output:
-        RES + "/scaling/{case}/{dynamics}/N{n}/seed{seed}.nc",
+        f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/seed{{seed}}.nc",
     log:
-        LOG + "/scaling/{case}/{dynamics}/N{n}/seed{seed}.log",
+        f"{LOG}/scaling/{{case}}/{{dynamics}}/N{{n}}/seed{{seed}}.log",
     wildcard_constraints:
         dynamics="bath|full",
         n=r"\d+",
@@ -185,9 +185,9 @@ rule fit_scaling:
         seeds=lambda w: scaling_files(w.case, w.dynamics, w.n),
         lib=lib("fit.py"),
     output:
-        RES + "/scaling/{case}/{dynamics}/N{n}/fit.nc",
+        f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/fit.nc",
     log:
-        LOG + "/scaling/{case}/{dynamics}/N{n}/fit.log",
+        f"{LOG}/scaling/{{case}}/{{dynamics}}/N{{n}}/fit.log",
     wildcard_constraints:
         dynamics="bath|full",
         n=r"\d+",
@@ -213,9 +213,9 @@ rule scaling:
         ],
         lib=lib("scaling.py"),
     output:
-        RES + "/scaling/{case}_{dynamics}.nc",
+        f"{RES}/scaling/{{case}}_{{dynamics}}.nc",
     log:
-        LOG + "/scaling/{case}_{dynamics}.log",
+        f"{LOG}/scaling/{{case}}_{{dynamics}}.log",
     wildcard_constraints:
         dynamics="bath|full",
     conda:

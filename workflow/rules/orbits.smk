@@ -1,12 +1,12 @@
 rule orbits:
     """Action-angle variables J, Omega, derivatives and Fourier coefficients c_n, s_n on a kappa grid."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         lib=lib("orbits.py"),
     output:
-        RES + "/orbits/{case}.nc",
+        f"{RES}/orbits/{{case}}.nc",
     log:
-        LOG + "/orbits/{case}.log",
+        f"{LOG}/orbits/{{case}}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

@@ -1,12 +1,12 @@
 rule relaxation:
     """Collisional relaxation f(J-bar, tau) of one case by the Landau or Lenard-Balescu equation."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         lib=lib("relaxation.py"),
     output:
-        RES + "/relaxation/{case}_{equation}.nc",
+        f"{RES}/relaxation/{{case}}_{{equation}}.nc",
     log:
-        LOG + "/relaxation/{case}_{equation}.log",
+        f"{LOG}/relaxation/{{case}}_{{equation}}.log",
     wildcard_constraints:
         equation="landau|lenard_balescu",
     conda:

@@ -1,12 +1,12 @@
 rule relaxation_md:
     """An ensemble of N-body relaxations (full dynamics) of one case at one N."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         lib=lib("relaxation_md.py"),
     output:
-        RES + "/relaxation_md/{case}/N{n}.nc",
+        f"{RES}/relaxation_md/{{case}}/N{{n}}.nc",
     log:
-        LOG + "/relaxation_md/{case}/N{n}.log",
+        f"{LOG}/relaxation_md/{{case}}/N{{n}}.log",
     wildcard_constraints:
         n=r"\d+",
     conda:
@@ -26,11 +26,11 @@ rule relaxation_comparison:
     input:
         unpack(relaxation_comparison_inputs),
     output:
-        table=RES + "/relaxation_comparison.csv",
-        summary=RES + "/relaxation_comparison_summary.txt",
+        table=f"{RES}/relaxation_comparison.csv",
+        summary=f"{RES}/relaxation_comparison_summary.txt",
         datasets=[f"{RES}/relaxation_comparison/{c}.nc" for c in relaxation_md_cases()],
     log:
-        LOG + "/relaxation_comparison.log",
+        f"{LOG}/relaxation_comparison.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

@@ -49,6 +49,6 @@ def relaxation_comparison_outputs():
     if not cases:
         return []
     return [
-        RES + "/relaxation_comparison.csv",
-        RES + "/relaxation_comparison_summary.txt",
+        f"{RES}/relaxation_comparison.csv",
+        f"{RES}/relaxation_comparison_summary.txt",
     ] + [f"{RES}/relaxation_comparison/{c}.nc" for c in cases]

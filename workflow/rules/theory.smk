@@ -1,12 +1,12 @@
 rule theory:
     """Dielectric tensor, Landau and Lenard-Balescu N*D_dif and N*D_pol, resonance contributions."""
     input:
-        equilibrium=RES + "/equilibrium/{case}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         lib=lib("theory.py"),
     output:
-        RES + "/theory/{case}.nc",
+        f"{RES}/theory/{{case}}.nc",
     log:
-        LOG + "/theory/{case}.log",
+        f"{LOG}/theory/{{case}}.log",
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1
