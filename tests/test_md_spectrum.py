@@ -127,3 +127,20 @@ def test_windowed_columns_of_the_validation_rows():
     assert rows[1]["z_windowed"] == pytest.approx(-1.0)
     line = summarise_windowed(rows).splitlines()[1]
     assert line.endswith(": 2  0.150  0.50"), line  # flag-1 bin left out
+
+
+def test_agreement_counts_only_frequencies_with_spectral_power():
+    """Bins where the theory is below 1e-3 of its in-band maximum (the numerical floor of the
+    bath synthesis) are left out of the summary; the others are counted exactly."""
+    omega = np.linspace(0.0, 5.0, 501)
+    theory = np.where(omega < 2.0, 1.0, 1e-6)
+    err = np.full_like(omega, 0.1)
+    measured = theory.copy()
+    measured[(omega > 1.0) & (omega < 2.0)] += 0.3  # 3 sigma high on 99 of the 195 bins kept
+    measured[omega >= 2.0] = 1e-12  # ratio 1e-6 and |z| ~ 0 at the floor: must not count
+    stats = md_spectrum.agreement(omega, measured, err, theory)
+    kept = (omega > 0.05) & (omega < 2.0)
+    assert stats["n_compared"] == kept.sum()
+    high = kept & (omega > 1.0)
+    assert stats["frac_z_lt_2"] == pytest.approx(1.0 - high.sum() / kept.sum())
+    assert stats["median_ratio"] == pytest.approx(1.3 if high.sum() > kept.sum() / 2 else 1.0)

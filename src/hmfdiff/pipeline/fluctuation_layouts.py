@@ -37,7 +37,12 @@ def spectrum_dataset(comp):
                 f"N S_{c}: measured spectrum of dM_{c} in {md} "
                 "(Welch, mean over segments and seeds)",
             )
-            data[f"{k}_err"] = _var((om,), comp[f"{k}_err"], _S_UNITS, f"standard error of {k}")
+            data[f"{k}_err"] = _var(
+                (om,),
+                comp[f"{k}_err"],
+                _S_UNITS,
+                f"standard error of {k} (spread of the per-seed means / sqrt(seeds))",
+            )
             data[f"{k}_theory"] = _var(
                 (om,), comp[f"{k}_theory"], _S_UNITS, f"N S_{c} of the theory, {th} (eps_{e})"
             )
