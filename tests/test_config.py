@@ -396,3 +396,23 @@ def test_core_below_halo(edit, match):
     cfg["cases"]["corehalo_ch2"].update(edit)
     with pytest.raises(ConfigError, match=match):
         check_config(cfg)
+
+
+def test_seeds_per_dynamics():
+    """seeds_bath / seeds_full override seeds for one dynamics (md section or one case); a bad
+    value is refused naming that field."""
+    from hmfdiff.dynamics.runs import md_runs
+
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md"]["seeds"] = 3
+    cfg["md"]["seeds_bath"] = 7
+    first = next(iter(cfg["md"]["runs"]))
+    cfg["md"]["runs"][first] = {**(cfg["md"]["runs"][first] or {}), "seeds_full": 5}
+    check_config(cfg)
+    runs = md_runs(cfg)
+    for (case, dynamics), run in runs.items():
+        expected = 7 if dynamics == "bath" else (5 if case == first else 3)
+        assert run.seeds == expected, (case, dynamics)
+    cfg["md"]["seeds_bath"] = 0
+    with pytest.raises(ConfigError, match=r"^md: field 'seeds_bath' = 0 must be an integer >= 1"):
+        check_config(cfg)

@@ -17,17 +17,22 @@ from .settings import DYNAMICS, MDRun
 __all__ = ["CONFIG_KEYS", "md_runs", "md_scaling_runs"]
 
 #: keys of the config's md section (and of each run) other than 'runs'
-CONFIG_KEYS = tuple(
-    f.name for f in dataclasses.fields(MDRun) if f.name not in ("case", "dynamics", "n_test")
-) + tuple(f"n_test_{d}" for d in DYNAMICS)
+CONFIG_KEYS = (
+    tuple(f.name for f in dataclasses.fields(MDRun) if f.name not in ("case", "dynamics", "n_test"))
+    + tuple(f"n_test_{d}" for d in DYNAMICS)
+    + tuple(f"seeds_{d}" for d in DYNAMICS)
+)
 
 
 def md_runs(config):
     """{(case, dynamics): MDRun} of every case under md.runs and both dynamics.
 
     Each record takes the md section's values, overridden by the case's own; `n_test_bath` and
-    `n_test_full` become the n_test of each dynamics.  Raises ConfigError naming the case and
-    the field on the first bad value, unknown key or missing setting.
+    `n_test_full` become the n_test of each dynamics, and `seeds_bath`, `seeds_full` (optional)
+    its number of realisations in place of `seeds` (an MD(bath) realisation costs about a
+    fifth of an MD(full) one, so the bath can buy its precision with more seeds).  Raises
+    ConfigError naming the case and the field on the first bad value, unknown key or missing
+    setting.
     """
     md = config.get("md")
     if md is None:
@@ -58,10 +63,15 @@ def md_runs(config):
         missing = [k for k in (*required, *(f"n_test_{d}" for d in DYNAMICS)) if k not in s]
         if missing:
             raise ConfigError(f"{where}: missing required field(s) {missing}")
-        fields = {k: v for k, v in s.items() if not k.startswith("n_test_")}
+        fields = {k: v for k, v in s.items() if not k.startswith(("n_test_", "seeds_"))}
         for dynamics in DYNAMICS:
+            seeds = s.get(f"seeds_{dynamics}")
+            per_dynamics = {} if seeds is None else {"seeds": seeds}
             out[(case, dynamics)] = MDRun(
-                case=case, dynamics=dynamics, n_test=s[f"n_test_{dynamics}"], **fields
+                case=case,
+                dynamics=dynamics,
+                n_test=s[f"n_test_{dynamics}"],
+                **{**fields, **per_dynamics},
             )
     return out
 
@@ -100,9 +110,11 @@ def md_scaling_runs(config):
     out = {}
     for dynamics in DYNAMICS:
         base = runs[(case, dynamics)].to_dict()
-        base.update({k: v for k, v in over.items() if not k.startswith("n_test_")})
+        base.update({k: v for k, v in over.items() if not k.startswith(("n_test_", "seeds_"))})
         if f"n_test_{dynamics}" in over:
             base["n_test"] = over[f"n_test_{dynamics}"]
+        if f"seeds_{dynamics}" in over:
+            base["seeds"] = over[f"seeds_{dynamics}"]
         base["seeds"] = sc.get("seeds", base["seeds"])
         base["case"] = f"{case} (md_scaling)"
         track = base.get("n_track")
