@@ -9,7 +9,7 @@ rule figure:
             caption="../report/figure.rst",
             category=lambda w: FIGURES[w.name].category,
             labels=lambda w: {
-                "figure": FIGURES[w.name].number,
+                "figure": f"{FIGURES[w.name].number:02d}",
                 "file": f"{w.name}.png",
             },
         ),
