@@ -20,18 +20,21 @@ report: "workflow/report/workflow.rst"
 
 # The configuration, checked once before any job; a bad one stops here with one line naming
 # the case or section, the field, the value and what is allowed, and nothing is written.
-# The paper's configuration is read unless --configfile gives the cases (Snakemake would
-# otherwise merge the two, and a smoke run would inherit every paper case).  Overrides:
-#   snakemake --config md='{dt: 0.05}'   (nested keys merge; numbers as strings are read)
+# The paper's configuration is read unless --configfile is given (Snakemake would otherwise
+# merge the two, and a smoke run would inherit every paper case).  --config overrides are
+# applied on top of the file, whichever top-level key they name (nested keys merge; numbers as
+# strings are read):
+#   snakemake --config md='{dt: 0.05}' 'cases={thermal_u-0.1: {u: -0.12}}'
 CONFIG_FILES = [str(f) for f in workflow.overwrite_configfiles]
-if "cases" not in config:
+DEFAULT_CONFIG = not CONFIG_FILES
+if DEFAULT_CONFIG:
     CONFIG_FILES.insert(0, "config/config.yaml")
 try:
     check_config_files(CONFIG_FILES)  # malformed YAML, a key given twice: named by file
 except ConfigError as e:
     sys.exit(f"Config error: {e}")
 
-if "cases" not in config:
+if DEFAULT_CONFIG:
 
     configfile: "config/config.yaml"
 
