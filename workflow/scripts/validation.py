@@ -1,7 +1,8 @@
 """Rule validation: results/validation.csv (MD against theory) and a printed summary."""
 
-from hmfdiff.analysis.fits import summarise_validation, validation_rows, write_validation_csv
-from hmfdiff.analysis.windowed import add_windowed, summarise_windowed
+from hmfdiff.analysis.agreement import summary_text
+from hmfdiff.analysis.fits import validation_rows, write_validation_csv
+from hmfdiff.analysis.windowed import add_windowed
 from hmfdiff.pipeline.io import read_dataset
 from hmfdiff.pipeline.layouts import state_from_dataset
 from hmfdiff.pipeline.runtime import get_logger
@@ -22,7 +23,7 @@ for case, fit_path, theory_path, eq_path, win_path in zip(
     case_rows = validation_rows(case, read_dataset(fit_path), read_dataset(theory_path), state.f)
     rows += add_windowed(case_rows, read_dataset(win_path, required=["ND_windowed"]))
 write_validation_csv(rows, sm.output.table)
-summary = summarise_validation(rows) + "\n" + summarise_windowed(rows)
+summary = summary_text(rows)
 toy = {c: n for c, n in sm.params.sizes.items() if n < TOY_SIZE}
 if toy:
     summary = (

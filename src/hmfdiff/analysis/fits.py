@@ -317,6 +317,8 @@ def validation_rows(case, fit, theory, f_of_kappa=None):
                 "z": float(z),
                 "flag": flag,
                 "n_seeds": int(fit.attrs["n_seeds"]),
+                "min_particles": int(fit.attrs["min_particles"]),
+                "separatrix_band": float(fit.attrs["separatrix_band"]),
             }
         )
     return rows
@@ -340,6 +342,8 @@ VALIDATION_COLUMNS = [
     "ratio_windowed",
     "z_windowed",
     "ND_spectrum",
+    # the realisations behind ND_md_err (the degrees of freedom of z: n_seeds - 1)
+    "n_seeds",
 ]
 
 
@@ -354,39 +358,3 @@ def write_validation_csv(rows, path):
         w.writeheader()
         for r in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
-
-
-def summarise_validation(rows):
-    """Per case and dynamics: bins used (flag 0, finite theory), median |ratio - 1|, |z| < 2."""
-    from scipy import stats
-
-    lines = [
-        "case dynamics theory: bins_used  median|ratio-1|  fraction|z|<2 "
-        "(expected for Student t with n_seeds - 1 dof)"
-    ]
-    keys = []
-    for r in rows:
-        if (r["case"], r["dynamics"]) not in keys:
-            keys.append((r["case"], r["dynamics"]))
-    for case, dyn in keys:
-        sel = [
-            r
-            for r in rows
-            if r["case"] == case
-            and r["dynamics"] == dyn
-            and r["flag"] == 0
-            and np.isfinite(r["ratio"])
-        ]
-        theory = "Landau" if dyn == "bath" else "Lenard-Balescu"
-        if not sel:
-            lines.append(f"{case} {dyn} vs {theory}: no usable bins")
-            continue
-        dev = np.median([abs(r["ratio"] - 1) for r in sel])
-        zs = np.array([r["z"] for r in sel])
-        frac = np.mean(np.abs(zs[np.isfinite(zs)]) < 2) if np.isfinite(zs).any() else np.nan
-        dof = max(int(sel[0].get("n_seeds", 2)) - 1, 1)
-        expected = stats.t.cdf(2, dof) - stats.t.cdf(-2, dof)
-        lines.append(
-            f"{case} {dyn} vs {theory}: {len(sel)}  {dev:.3f}  {frac:.2f} ({expected:.2f})"
-        )
-    return "\n".join(lines)

@@ -69,27 +69,3 @@ def add_windowed(rows, windowed):
             r["z_windowed"] = float((r["ND_md"] - w) / r["ND_md_err"])
             r["ND_spectrum"] = float(s)
     return rows
-
-
-def summarise_windowed(rows):
-    """Per case and dynamics, on the bins the asymptotic summary uses (flag 0): median
-    |ND_md / ND_windowed - 1| and the fraction of |z| < 2 against the windowed prediction."""
-    lines = ["windowed theory (the finite-time <dJ^2> fitted over the MD's own lags and window):"]
-    keys = list(dict.fromkeys((r["case"], r["dynamics"]) for r in rows))
-    for case, dyn in keys:
-        sel = [
-            r
-            for r in rows
-            if (r["case"], r["dynamics"]) == (case, dyn)
-            and r["flag"] == 0
-            and np.isfinite(r.get("ratio_windowed", np.nan))
-        ]
-        theory = "bare (Landau)" if dyn == "bath" else "dressed (Lenard-Balescu)"
-        if not sel:
-            lines.append(f"{case} {dyn} vs windowed {theory}: no usable bins")
-            continue
-        dev = np.median([abs(r["ratio_windowed"] - 1) for r in sel])
-        zs = np.array([r["z_windowed"] for r in sel])
-        frac = np.mean(np.abs(zs[np.isfinite(zs)]) < 2) if np.isfinite(zs).any() else np.nan
-        lines.append(f"{case} {dyn} vs windowed {theory}: {len(sel)}  {dev:.3f}  {frac:.2f}")
-    return "\n".join(lines)

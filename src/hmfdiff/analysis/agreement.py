@@ -1,0 +1,211 @@
+"""How well MD agrees with theory, as statistics allow: the summary of results/validation.csv.
+
+Bins used: flag 0 of `fits.VALIDATION_FLAGS`, i.e. at least `md.min_particles` particles in the
+bin, |kappa0 - 1| at least `md.separatrix_band_fit`, and a finite MD value, theory and error.
+For each case and dynamics, and pooled over all of them:
+
+* the median of |ratio - 1| and the mean ratio with its standard error (spread of the ratios
+  over the bins / sqrt(bins));
+* the fraction of bins with |z| < 2 and the mean z^2, each beside the value expected if the MD
+  values scatter about the theory as their errors say: z = (ND_md - ND_theory) / ND_md_err with
+  the error the standard error over n_seeds independent realisations is Student-t distributed
+  with nu = n_seeds - 1 degrees of freedom, so P(|z| < 2) = F_nu(2) - F_nu(-2) and
+  E[z^2] = nu / (nu - 2) (nu > 2);
+* every bin with |z| > 3, by name.
+
+The same for the finite-time (windowed) theory, with `ratio_windowed` and `z_windowed`.
+`python -m hmfdiff.analysis.agreement results/validation.csv` prints the summary; with
+`--markdown` the table the README includes.
+"""
+
+from __future__ import annotations
+
+import csv
+import sys
+
+import numpy as np
+from scipy import stats
+
+__all__ = ["SELECTION", "agreement", "summary_text", "markdown_table", "read_rows"]
+
+SELECTION = (
+    "bins with flag 0: at least md.min_particles particles, |kappa0 - 1| >= "
+    "md.separatrix_band_fit, finite MD value, theory and error"
+)
+#: the two comparisons: (label, ratio column, z column, theory name per dynamics)
+COMPARISONS = {
+    "asymptotic": ("ratio", "z", {"bath": "Landau", "full": "Lenard-Balescu"}),
+    "windowed": (
+        "ratio_windowed",
+        "z_windowed",
+        {"bath": "windowed bare (Landau)", "full": "windowed dressed (Lenard-Balescu)"},
+    ),
+}
+OUTLIER_Z = 3.0
+
+
+def _expected(dof):
+    """P(|t| < 2) and E[t^2] for Student's t with `dof` degrees of freedom (arrays)."""
+    dof = np.asarray(dof, dtype=float)
+    p2 = stats.t.cdf(2.0, dof) - stats.t.cdf(-2.0, dof)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z2 = np.where(dof > 2, dof / (dof - 2.0), np.inf)
+    return p2, z2
+
+
+def _usable(rows, ratio, z):
+    return [
+        r
+        for r in rows
+        if int(r["flag"]) == 0 and np.isfinite(r.get(ratio, np.nan)) and np.isfinite(r.get(z, np.nan))
+    ]
+
+
+def agreement(rows, comparison="asymptotic"):
+    """Statistics per (case, dynamics) and pooled ('all', 'all'), as a list of dicts with keys
+    case, dynamics, theory, bins, median_dev, mean_ratio, mean_ratio_err, frac_z2,
+    frac_z2_expected, mean_z2, mean_z2_expected, outliers (list of rows with |z| > 3)."""
+    ratio, z, theory = COMPARISONS[comparison]
+    keys = list(dict.fromkeys((r["case"], r["dynamics"]) for r in rows))
+    groups = [(c, d, [r for r in rows if (r["case"], r["dynamics"]) == (c, d)]) for c, d in keys]
+    groups.append(("all", "all", list(rows)))
+    out = []
+    for case, dyn, sel in groups:
+        sel = _usable(sel, ratio, z)
+        entry = {"case": case, "dynamics": dyn, "theory": theory.get(dyn, "theory"), "bins": 0}
+        out.append(entry)
+        if not sel:
+            continue
+        q = np.array([r[ratio] for r in sel], dtype=float)
+        zs = np.array([r[z] for r in sel], dtype=float)
+        p2, z2 = _expected([max(int(r.get("n_seeds", 2)) - 1, 1) for r in sel])
+        entry.update(
+            bins=len(sel),
+            median_dev=float(np.median(np.abs(q - 1.0))),
+            mean_ratio=float(np.mean(q)),
+            mean_ratio_err=float(np.std(q, ddof=1) / np.sqrt(q.size)) if q.size > 1 else np.nan,
+            frac_z2=float(np.mean(np.abs(zs) < 2.0)),
+            frac_z2_expected=float(np.mean(p2)),
+            mean_z2=float(np.mean(zs**2)),
+            mean_z2_expected=float(np.mean(z2)),
+            outliers=[r for r in sel if abs(r[z]) > OUTLIER_Z],
+        )
+    return out
+
+
+def _outlier_name(r, ratio, z):
+    return (
+        f"{r['case']} {r['dynamics']} kappa0 = {float(r['kappa0']):.3f} "
+        f"(ratio {float(r[ratio]):.3f}, z = {float(r[z]):+.1f})"
+    )
+
+
+def _selection_values(rows):
+    """The selection's values where the rows carry them (rows from the fits, not from CSV)."""
+    vals = sorted({(r["min_particles"], r["separatrix_band"]) for r in rows if "min_particles" in r})
+    if not vals:
+        return ""
+    said = "; ".join(f"min_particles = {m}, separatrix_band_fit = {b:g}" for m, b in vals)
+    return f" (here {said})"
+
+
+def summary_text(rows):
+    """The text of results/validation_summary.txt (asymptotic and windowed blocks)."""
+    lines = [f"Bins used: {SELECTION}{_selection_values(rows)}."]
+    lines.append(
+        "Expected values: Student t with n_seeds - 1 degrees of freedom (the MD error is the "
+        "standard error over independent realisations)."
+    )
+    for comparison, (ratio, z, _) in COMPARISONS.items():
+        lines.append("")
+        title = (
+            "MD against the asymptotic theory (ND_theory, bin-averaged):"
+            if comparison == "asymptotic"
+            else "MD against the windowed theory (the finite-time <dJ^2> fitted over the MD's "
+            "own lags and window):"
+        )
+        lines.append(title)
+        lines.append(
+            "case dynamics vs theory: bins  median|ratio-1|  mean ratio  "
+            "fraction|z|<2 (expected)  mean z^2 (expected)"
+        )
+        outliers = []
+        for e in agreement(rows, comparison):
+            label = (
+                "pooled, all lines"
+                if e["case"] == "all"
+                else f"{e['case']} {e['dynamics']} vs {e['theory']}"
+            )
+            if not e["bins"]:
+                lines.append(f"{label}: no usable bins")
+                continue
+            lines.append(
+                f"{label}: {e['bins']}  {e['median_dev']:.3f}  "
+                f"{e['mean_ratio']:.3f} +- {e['mean_ratio_err']:.3f}  "
+                f"{e['frac_z2']:.2f} ({e['frac_z2_expected']:.2f})  "
+                f"{e['mean_z2']:.2f} ({e['mean_z2_expected']:.2f})"
+            )
+            if e["case"] != "all":
+                outliers += e["outliers"]
+        if outliers:
+            lines.append(f"bins with |z| > {OUTLIER_Z:g}:")
+            lines += ["  " + _outlier_name(r, ratio, z) for r in outliers]
+        else:
+            lines.append(f"no bin with |z| > {OUTLIER_Z:g}")
+    return "\n".join(lines)
+
+
+def markdown_table(rows, comparison="asymptotic"):
+    """The README's table: one line per case and dynamics, then the pooled line."""
+    head = (
+        "| case | dynamics | bins | median \\|ratio - 1\\| | mean ratio | "
+        "\\|z\\| < 2 (expected) | mean z^2 (expected) |\n|---|---|---|---|---|---|---|"
+    )
+    body = []
+    for e in agreement(rows, comparison):
+        if not e["bins"]:
+            continue
+        body.append(
+            f"| {e['case']} | {e['dynamics']} | {e['bins']} | {100 * e['median_dev']:.1f} % | "
+            f"{e['mean_ratio']:.3f} +- {e['mean_ratio_err']:.3f} | "
+            f"{100 * e['frac_z2']:.0f} % ({100 * e['frac_z2_expected']:.0f} %) | "
+            f"{e['mean_z2']:.2f} ({e['mean_z2_expected']:.2f}) |"
+        )
+    return "\n".join([head, *body])
+
+
+def read_rows(path):
+    """The rows of a validation.csv, numbers as floats, flag and n_seeds as integers."""
+    rows = []
+    with open(path, newline="") as fh:
+        for r in csv.DictReader(fh):
+            row = {}
+            for k, v in r.items():
+                if k in ("case", "dynamics"):
+                    row[k] = v
+                elif k in ("flag", "n_particles_in_bin", "n_seeds"):
+                    row[k] = int(float(v))
+                else:
+                    row[k] = float(v) if v not in ("", None) else np.nan
+            rows.append(row)
+    return rows
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    markdown = "--markdown" in argv
+    paths = [a for a in argv if not a.startswith("--")]
+    if len(paths) != 1:
+        sys.exit("usage: python -m hmfdiff.analysis.agreement VALIDATION_CSV [--markdown]")
+    rows = read_rows(paths[0])
+    if markdown:
+        print("MD against the asymptotic theory:\n")
+        print(markdown_table(rows, "asymptotic"))
+        print("\nMD against the windowed theory:\n")
+        print(markdown_table(rows, "windowed"))
+    else:
+        print(summary_text(rows))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,91 @@
+"""The validation summary (analysis.agreement) on rows of known statistics: the bin selection,
+the median and mean ratio, the fraction within |z| < 2 and the mean z^2 against their expected
+values, the |z| > 3 bins named, and the CSV round trip."""
+
+import numpy as np
+import pytest
+
+from hmfdiff.analysis.agreement import agreement, markdown_table, read_rows, summary_text
+from hmfdiff.analysis.fits import write_validation_csv
+
+
+def _row(case, dyn, ratio, z, flag=0, n_seeds=20, kappa0=0.5, **kw):
+    return dict(
+        case=case,
+        dynamics=dyn,
+        M0=0.7,
+        J0=0.3,
+        kappa0=kappa0,
+        n_particles_in_bin=1000,
+        ND_md=ratio,
+        ND_md_err=0.1,
+        ND_theory=1.0,
+        ratio=ratio,
+        z=z,
+        flag=flag,
+        ratio_windowed=kw.get("ratio_windowed", ratio),
+        z_windowed=kw.get("z_windowed", z),
+        n_seeds=n_seeds,
+    )
+
+
+def test_statistics_of_hand_made_rows():
+    rows = [
+        _row("a", "bath", 1.1, 1.0),
+        _row("a", "bath", 0.9, -3.5, kappa0=0.25),
+        _row("a", "bath", 1.3, 0.5),
+        _row("a", "bath", 9.0, 50.0, flag=1),  # too few particles: left out
+        _row("a", "bath", 1.2, np.nan, flag=5),  # no error: left out
+        _row("b", "full", 1.0, 0.0),
+    ]
+    per = {(e["case"], e["dynamics"]): e for e in agreement(rows)}
+    a = per["a", "bath"]
+    assert a["bins"] == 3
+    assert a["median_dev"] == pytest.approx(0.1)
+    assert a["mean_ratio"] == pytest.approx(1.1)
+    assert a["mean_ratio_err"] == pytest.approx(np.std([1.1, 0.9, 1.3], ddof=1) / np.sqrt(3))
+    assert a["frac_z2"] == pytest.approx(2 / 3)
+    assert a["mean_z2"] == pytest.approx((1.0 + 3.5**2 + 0.25) / 3)
+    assert a["mean_z2_expected"] == pytest.approx(19 / 17)  # nu/(nu - 2), nu = 19
+    assert [r["kappa0"] for r in a["outliers"]] == [0.25]
+    pooled = per["all", "all"]
+    assert pooled["bins"] == 4 and pooled["mean_ratio"] == pytest.approx(1.075)
+    text = summary_text(rows)
+    assert "a bath kappa0 = 0.250 (ratio 0.900, z = -3.5)" in text
+    assert "flag 0" in text and "separatrix_band_fit" in text
+    assert "pooled, all lines: 4" in text
+
+
+def test_expected_values_match_student_t_samples():
+    """Rows whose z are Student-t samples (numpy's generator, independent of scipy's cdf) must
+    read their own expected fraction within |z| < 2 and mean z^2."""
+    rng = np.random.default_rng(7)
+    nu = 9
+    z = rng.standard_t(nu, 40000)
+    rows = [_row("c", "full", 1.0, float(v), n_seeds=nu + 1) for v in z]
+    e = agreement(rows)[0]
+    assert e["frac_z2_expected"] == pytest.approx(np.mean(np.abs(z) < 2), abs=0.005)
+    assert e["mean_z2_expected"] == pytest.approx(nu / (nu - 2))
+    assert e["mean_z2"] == pytest.approx(e["mean_z2_expected"], rel=0.05)
+    # errors claimed twice too small (z twice too large) are seen in both statistics
+    wide = agreement([_row("c", "full", 1.0, 2 * float(v), n_seeds=nu + 1) for v in z])[0]
+    assert wide["frac_z2"] < wide["frac_z2_expected"] - 0.2
+    assert wide["mean_z2"] > 3 * wide["mean_z2_expected"]
+
+
+def test_windowed_block_uses_the_windowed_columns():
+    rows = [_row("a", "bath", 1.0, 0.0, ratio_windowed=1.5, z_windowed=4.0)]
+    (e, _) = agreement(rows, "windowed")
+    assert e["median_dev"] == pytest.approx(0.5) and len(e["outliers"]) == 1
+    assert agreement(rows)[0]["outliers"] == []
+
+
+def test_csv_round_trip_keeps_the_degrees_of_freedom(tmp_path):
+    rows = [_row("a", "bath", 1.0 + 0.01 * i, 0.1 * i, n_seeds=40) for i in range(5)]
+    path = tmp_path / "validation.csv"
+    write_validation_csv(rows, path)
+    back = read_rows(path)
+    assert [r["n_seeds"] for r in back] == [40] * 5
+    assert summary_text(back) == summary_text(rows)
+    table = markdown_table(back)
+    assert "| a | bath | 5 |" in table and "(1.05)" in table  # E[z^2] = 39/37
