@@ -57,7 +57,9 @@ def _usable(rows, ratio, z):
     return [
         r
         for r in rows
-        if int(r["flag"]) == 0 and np.isfinite(r.get(ratio, np.nan)) and np.isfinite(r.get(z, np.nan))
+        if int(r["flag"]) == 0
+        and np.isfinite(r.get(ratio, np.nan))
+        and np.isfinite(r.get(z, np.nan))
     ]
 
 
@@ -102,10 +104,10 @@ def _outlier_name(r, ratio, z):
 
 def _selection_values(rows):
     """The selection's values where the rows carry them (rows from the fits, not from CSV)."""
-    vals = sorted({(r["min_particles"], r["separatrix_band"]) for r in rows if "min_particles" in r})
+    vals = {(r["min_particles"], r["separatrix_band"]) for r in rows if "min_particles" in r}
     if not vals:
         return ""
-    said = "; ".join(f"min_particles = {m}, separatrix_band_fit = {b:g}" for m, b in vals)
+    said = "; ".join(f"min_particles = {m}, separatrix_band_fit = {b:g}" for m, b in sorted(vals))
     return f" (here {said})"
 
 
