@@ -201,10 +201,16 @@ class _Operator:
         self.op = CollisionOperator(self.geom, self.events, eps)
 
 
-def evolve(state, settings, progress=None):
+def evolve(state, settings, progress=None, operator=None):
     """Evolve `state` (any object with M0 and f_energy(h)) under the Landau or Lenard-Balescu
     equation until thermalised (max |f - f_eq| / max f_eq < thermal_tol, f_eq the thermal
     state of the same energy on the grid) or tau_max.
+
+    operator: None (the collision operator of `settings.equation`), or a factory
+    (grid, f, M0) -> an object with the methods of `CollisionOperator` (rate, jacobian,
+    face_flux, entropy_production), called wherever the collision operator would be built: a
+    testing seam, so that an operator of known spectrum runs through the same stepper, step
+    control and time bookkeeping.
 
     Each step uses the orbits of the predicted mid-step magnetisation
     M0 + (dM0/dtau) dtau/2 (from the previous step), which makes the energy error of the M0
@@ -245,17 +251,22 @@ def evolve(state, settings, progress=None):
 
     dielectric = _Dielectric(s)
 
-    def record_flux(tau, y, M0, oper=None):
-        oper = oper or _Operator(grid, np.exp(y), M0, s, dielectric)
+    def make_operator(f, M0):
+        if operator is not None:
+            return operator(grid, f, M0)
+        return _Operator(grid, f, M0, s, dielectric).op
+
+    def record_flux(tau, y, M0):
+        op = make_operator(np.exp(y), M0)
         tau_flux.append(tau)
-        flux.append(oper.op.face_flux(y) / PHASE_VOLUME_PER_JBAR)
-        sdot.append(oper.op.entropy_production(y))
-        return oper
+        flux.append(op.face_flux(y) / PHASE_VOLUME_PER_JBAR)
+        sdot.append(op.entropy_production(y))
+        return op
 
     tau = 0.0
     dist = record(tau, y, M0)
-    oper = record_flux(tau, y, M0)
-    rate0 = np.max(np.abs(oper.op.rate(y)) / vol)
+    op = record_flux(tau, y, M0)
+    rate0 = np.max(np.abs(op.rate(y)) / vol)
     dt = s.dtau_first or (s.rtol * np.max(f) / rate0 if rate0 > 0 else s.tau_max)
     dM0dt = 0.0
     fresh = False  # the operator of tau = 0 serves the first step (dM0/dtau unknown: 0)
@@ -266,11 +277,11 @@ def evolve(state, settings, progress=None):
         if upcoming:
             dt = min(dt, upcoming[0] - tau)
         if fresh:  # a new step: orbits at the predicted mid-step M0 (kept if it is rejected)
-            oper = _Operator(grid, np.exp(y), M0 + 0.5 * dM0dt * dt, s, dielectric)
+            op = make_operator(np.exp(y), M0 + 0.5 * dM0dt * dt)
             fresh = False
-        y1, ok1 = _backward_euler(oper.op, vol, y, dt)
-        yh, okh = _backward_euler(oper.op, vol, y, 0.5 * dt) if ok1 else (y, False)
-        y2, ok2 = _backward_euler(oper.op, vol, yh, 0.5 * dt) if okh else (y, False)
+        y1, ok1 = _backward_euler(op, vol, y, dt)
+        yh, okh = _backward_euler(op, vol, y, 0.5 * dt) if ok1 else (y, False)
+        y2, ok2 = _backward_euler(op, vol, yh, 0.5 * dt) if okh else (y, False)
         if not (ok1 and okh and ok2):
             n_rejected += 1
             dt *= 0.25
