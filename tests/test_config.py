@@ -416,3 +416,202 @@ def test_seeds_per_dynamics():
     cfg["md"]["seeds_bath"] = 0
     with pytest.raises(ConfigError, match=r"^md: field 'seeds_bath' = 0 must be an integer >= 1"):
         check_config(cfg)
+
+
+# ---- the same checks in every block that runs dynamics (issue 20 part 8) -----------------
+def _refused(cfg, *parts):
+    """check_config refuses `cfg` in one line holding every string of `parts`."""
+    with pytest.raises(ConfigError) as err:
+        check_config(cfg)
+    msg = str(err.value)
+    assert "\n" not in msg, msg
+    for part in parts:
+        assert part in msg, (part, msg)
+    return msg
+
+
+def _thermal_M0(u):
+    """M0 of the thermal state of energy u, solved here: M0 = I1(beta M0)/I0(beta M0) with
+    u = 1/(2 beta) - M0^2/2 (the paper's thermal branch), by bisection in M0 above
+    sqrt(-2u), where beta > 0."""
+    from scipy.optimize import brentq
+
+    def gap(m):
+        beta = 1.0 / (2.0 * (u + m * m / 2.0))
+        return special.i1e(beta * m) / special.i0e(beta * m) - m
+
+    return brentq(gap, math.sqrt(max(-2.0 * u, 0.0)) + 1e-9, 1.0 - 1e-9, xtol=1e-14)
+
+
+def _edit(cfg, path, value):
+    d = cfg
+    for k in path[:-1]:
+        d = d[k]
+    d[path[-1]] = value
+
+
+CH2_SIZES = ("relaxation_md", "runs", "corehalo_ch2", "n_particles")
+FIG14 = ("figures", "fig14_spectrum", "cases")
+
+
+@pytest.mark.parametrize(
+    "path,value,parts",
+    [
+        (
+            ("relaxation", "runs", "nonexistent"),
+            {},
+            ["relaxation run 'nonexistent'", "names case 'nonexistent', which is not in 'cases'"],
+        ),
+        (
+            ("relaxation", "runs", "twostep_ch"),
+            {},
+            ["relaxation run 'twostep_ch'", "two-step state has no smooth f", "core_halo"],
+        ),
+        (
+            ("relaxation_md", "runs", "nonexistent"),
+            {"n_particles": [400]},
+            ["relaxation_md run 'nonexistent'", "which is not in 'cases'"],
+        ),
+        (
+            ("relaxation_md", "runs", "twostep_ch"),
+            {"n_particles": [400]},
+            ["relaxation_md run 'twostep_ch'", "two-step state has no smooth f"],
+        ),
+        (
+            ("relaxation_md", "runs", "thermal_u-0.1"),
+            {"n_particles": [400]},
+            ["relaxation_md run 'thermal_u-0.1'", "not under relaxation.runs"],
+        ),
+        (
+            ("md_scaling", "case"),
+            "nonexistent",
+            ["md_scaling: names case 'nonexistent', which is not in 'cases'"],
+        ),
+        (
+            ("md_scaling", "case"),
+            "twostep_ch",
+            ["md_scaling: case 'twostep_ch': a two-step state has no smooth f"],
+        ),
+        (
+            ("md_scaling", "case"),
+            "thermal_M0.9",
+            ["md_scaling: field 'case' = 'thermal_M0.9' must name a case under md.runs"],
+        ),
+        (
+            FIG14,
+            ["thermal_u-0.1", "twostep_ch"],
+            ["spectrum case 'twostep_ch' (figure 'fig14_spectrum')", "no smooth f"],
+        ),
+        (
+            FIG14,
+            ["thermal_M0.9"],
+            ["spectrum case 'thermal_M0.9' (figure 'fig14_spectrum')", "no MD run under md.runs"],
+        ),
+    ],
+)
+def test_every_block_refuses_an_unknown_or_two_step_case(path, value, parts):
+    cfg = copy.deepcopy(SMOKE)
+    _edit(cfg, path, value)
+    _refused(cfg, *parts)
+
+
+_RANGE = re.compile(
+    r"field '(\w+)' = ([\d.e+-]+) is outside the allowed range \(0, ([\d.e+-]+)\]: at most "
+    r"1/(\d+) of the fastest orbital period ([\d.e+-]+) of the state \(kappa = ([\d.e+-]+), "
+    r"M0 = ([\d.e+-]+)\)"
+)
+
+
+@pytest.mark.parametrize(
+    "path,bad,good,where,per_period",
+    [
+        # the ensemble's own particles, no test particles: the tail of ch2* sets the period
+        (("relaxation_md", "dt"), 0.45, 0.42, "relaxation_md run 'corehalo_ch2'", 10),
+        # the `run` override of the 1/N study: test particles up to kappa_max = 2
+        (("md_scaling", "run", "dt"), 0.2, 0.1, "md_scaling run 'thermal_u-0.1' (bath", 10),
+        # the magnetisation's sampling: the bath's fastest orbit below the Nyquist frequency
+        (("md", "m_every"), 1.2, 1.1, "spectrum case 'thermal_u-0.1'", 2),
+    ],
+)
+def test_every_block_bounds_its_time_step_by_the_fastest_orbit(path, bad, good, where, per_period):
+    """The allowed range in the message is the orbital period at the stated kappa, computed
+    here by quadrature (independent of the elliptic functions), over 10 (time steps) or 2 (the
+    sampling of the magnetisation, Nyquist); a value just inside passes."""
+    cfg = copy.deepcopy(SMOKE)
+    _edit(cfg, path, bad)
+    msg = _refused(cfg, where)
+    field, value, hi, per, period, kappa, M0 = _RANGE.search(msg).groups()
+    assert field == path[-1] and float(value) == bad and int(per) == per_period
+    T = _period_by_quadrature(float(kappa), float(M0))
+    assert float(period) == pytest.approx(T, rel=1e-3)
+    assert float(hi) == pytest.approx(T / per_period, rel=1e-3)
+    assert bad > T / per_period > good
+    _edit(cfg, path, good)
+    check_config(cfg)
+
+
+def test_every_block_needs_enough_particles_for_a_mean_field():
+    """N >= (10/M0)^2 for each size of the N-body relaxation and of the 1/N study, the field
+    and the minimum named; M0 of the thermal state solved here."""
+    from hmfdiff.meanfield.equilibrium import make_state
+
+    n_min = math.ceil((10.0 / make_state(SMOKE["cases"]["corehalo_ch2"]).M0) ** 2)
+    cfg = copy.deepcopy(SMOKE)
+    _edit(cfg, CH2_SIZES, [n_min - 1, 400])
+    _refused(
+        cfg,
+        "relaxation_md run 'corehalo_ch2': field 'n_particles' =",
+        f"= {n_min - 1} must be >= {n_min}",
+    )
+    _edit(cfg, CH2_SIZES, [n_min, 400])
+    check_config(cfg)
+    n_min = math.ceil((10.0 / _thermal_M0(-0.1)) ** 2)
+    cfg["md_scaling"]["sizes"] = [3000, n_min - 1]
+    _refused(
+        cfg,
+        f"md_scaling run 'thermal_u-0.1' (bath, N = {n_min - 1}): field 'sizes' = {n_min - 1} "
+        f"must be >= {n_min}",
+    )
+    cfg["md_scaling"]["sizes"] = [3000, n_min]
+    check_config(cfg)
+
+
+@pytest.mark.parametrize(
+    "path,value,parts",
+    [
+        (
+            # ~10 n_nodes n_max^2 = 1.5e6 resonances of ~200 B: 0.3 GB on top of 1 GB
+            ("relaxation", "runs", "corehalo_ch2"),
+            {"n_nodes": 600, "n_max": 16},
+            ["relaxation run 'corehalo_ch2': field 'n_nodes' = 600 with n_max = 16"],
+        ),
+        (
+            # R = 10^4 realisations of N = 200: 2e6 particles of ~64 B (+30 %) on top of 1 GB
+            ("relaxation_md", "particles_per_size"),
+            2_000_000,
+            ["relaxation_md run 'corehalo_ch2': field 'n_particles' = 200 with particles_per"],
+        ),
+        (
+            ("md_scaling", "sizes"),
+            [1000, 5_000_000],
+            ["md_scaling run 'thermal_u-0.1' (bath, N = 5000000): field 'sizes' = 5000000"],
+        ),
+        (
+            ("md", "seeds"),
+            2000,
+            ["spectrum case 'thermal_u-0.1' (figure 'fig14_spectrum'): field 'seeds' = 2000"],
+        ),
+    ],
+)
+def test_every_block_refuses_a_job_beyond_the_machines_memory(monkeypatch, path, value, parts):
+    """On a machine of 1.15 GB the smoke config passes (every job ~1.0 GB: 1 GB of interpreter
+    and libraries plus a few MB); each change below makes one job of the block larger:
+    estimates of what it holds (resonances ~ 10 n_nodes n_max^2 of ~200 B, 64 B per
+    ensemble particle, 48 B per MD particle, every seed's file for the spectrum)."""
+    from hmfdiff.pipeline import config as config_module
+
+    monkeypatch.setattr(config_module, "machine_memory_bytes", lambda: int(1.15e9))
+    check_config(SMOKE)
+    cfg = copy.deepcopy(SMOKE)
+    _edit(cfg, path, value)
+    _refused(cfg, *parts, "of memory, more than this machine's 1.07 GiB")

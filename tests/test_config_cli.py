@@ -244,6 +244,24 @@ BAD = [
         ["relaxation run 'corehalo_ch2': unknown field 'n_node'", "did you mean 'n_nodes'"],
     ),
     (
+        "md_scaling_not_md",
+        edited(md_scaling__case="thermal_M0.9"),
+        [],
+        ["md_scaling: field 'case' = 'thermal_M0.9'", "must name a case under md.runs"],
+    ),
+    (
+        "spectrum_not_md",
+        edited(figures__fig14_spectrum={"cases": ["thermal_u-0.1", "thermal_M0.9"]}),
+        [],
+        ["spectrum case 'thermal_M0.9' (figure 'fig14_spectrum')", "no MD run under md.runs"],
+    ),
+    (
+        "relaxation_md_dt",
+        edited(relaxation_md__dt=0.45),
+        [],
+        ["relaxation_md run 'corehalo_ch2'", "'dt' = 0.45", "(0, 0.43", "orbital period"],
+    ),
+    (
         "figure_missing_case",
         edited(figures__fig01_orbits={"case": "nonexistent"}),
         [],

@@ -14,8 +14,12 @@ is allowed:
    every state, MD only for states with a smooth f, the MD time step against the fastest
    orbital period of the state, N against the noise of the magnetisation, every MD run's
    settings (`hmfdiff.dynamics.runs.md_runs`: whole multiples of dt, ...), its memory
-   estimate against this machine's, relaxation runs of smooth states, figures naming existing
-   cases of the right kind.
+   estimate against this machine's, figures naming existing cases of the right kind.  The
+   same checks (`check_smooth_case`, `check_time_step`, `check_particle_number`,
+   `check_memory`) guard every block that runs dynamics: md.runs, md_scaling (each size),
+   relaxation (smooth case, memory), relaxation_md (smooth case also under relaxation.runs,
+   dt, each N, memory) and the spectrum of every case a figure draws it for (an MD case, the
+   magnetisation stored every m_every <= half the fastest orbital period, memory).
 
 `python -m hmfdiff.pipeline.config FILE...` checks config files outside Snakemake.
 """
@@ -30,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.runs import md_runs
+from ..dynamics.runs import md_runs, md_scaling_runs
 from ..errors import ConfigError
 from .schema import apply_schema, load_schema, load_yaml_file
 
@@ -43,6 +47,12 @@ __all__ = [
     "check_physics",
     "machine_memory_bytes",
     "fastest_orbital_period",
+    "check_smooth_case",
+    "check_time_step",
+    "check_particle_number",
+    "check_memory",
+    "check_run_physics",
+    "spectrum_cases",
 ]
 
 SCHEMA_FILE = Path(__file__).resolve().parents[3] / "workflow" / "schemas" / "config.schema.yaml"
@@ -146,61 +156,223 @@ def _gib(x):
     return f"{x / 2**40:.3g} TiB" if x >= 2**40 else f"{x / 2**30:.3g} GiB"
 
 
+# ---- one run's physics: the checks every block that runs dynamics shares ----------------
+def check_smooth_case(config, where, case, needs):
+    """`case` names a case of the config, and one with a smooth f (not two-step): `needs` says
+    what for."""
+    if case not in config["cases"]:
+        raise ConfigError(f"{where}: names case '{case}', which is not in 'cases'")
+    if config["cases"][case]["kind"] == "two_step":
+        raise ConfigError(
+            f"{where}: case '{case}': a two-step state has no smooth f (a delta-function "
+            f"df/dkappa) for {needs}; use a thermal or core_halo state"
+        )
+
+
+def check_time_step(where, field, value, state, kappa_test=0.0, per_period=None, why=""):
+    """`value` (a time step or a sampling interval) at most 1/per_period of the fastest orbital
+    period of the state (orbits up to kappa_test included); default STEPS_PER_FASTEST_PERIOD."""
+    per_period = per_period or STEPS_PER_FASTEST_PERIOD
+    period, kappa = fastest_orbital_period(state, kappa_test)
+    dt_max = period / per_period
+    if value > dt_max:
+        raise ConfigError(
+            f"{where}: field '{field}' = {value!r} is outside the allowed range (0, {dt_max:.4g}]: "
+            f"at most 1/{per_period:g} of the fastest orbital period {period:.4g} of the state "
+            f"(kappa = {kappa:.6g}, M0 = {state.M0:.6g}){why}"
+        )
+
+
+def check_particle_number(where, field, n, state):
+    """N large enough for a mean field: the noise 1/sqrt(N) of the magnetisation <= M0/10."""
+    n_min = math.ceil((M0_OVER_NOISE / state.M0) ** 2)
+    if n < n_min:
+        raise ConfigError(
+            f"{where}: field '{field}' = {n!r} must be >= {n_min} (the finite-N "
+            f"noise 1/sqrt(N) of the magnetisation must be <= M0/{M0_OVER_NOISE:g}, "
+            f"M0 = {state.M0:.4g})"
+        )
+
+
+def check_memory(where, need_bytes, what):
+    """A job's memory estimate against this machine's, before anything is allocated."""
+    total = machine_memory_bytes()
+    if need_bytes > total:
+        raise ConfigError(
+            f"{where}: {what} needs about {_gib(need_bytes)} of memory, more than this "
+            f"machine's {_gib(total)}"
+        )
+
+
+def check_run_physics(where, state, *, dt, n_particles, kappa_test=0.0, n_field="n_particles"):
+    """One N-body run: dt resolves the fastest orbit of the state and of its test particles
+    (up to kappa_test), and N is large enough for a mean field."""
+    check_time_step(where, "dt", dt, state, kappa_test)
+    check_particle_number(where, n_field, n_particles, state)
+
+
+# ---- molecular dynamics -----------------------------------------------------------------
 def _check_md_physics(config, states):
     """Per MD run: the case can be sampled, dt resolves its fastest orbit, N is large enough
     for a mean field.  Runs before the settings record, so a wild dt is named as such."""
     for case in config["md"]["runs"]:
         where = f"md run '{case}'"
-        if case not in config["cases"]:
-            raise ConfigError(f"{where}: names case '{case}', which is not in 'cases'")
-        if config["cases"][case]["kind"] == "two_step":
-            raise ConfigError(f"{where}: a two-step state has no smooth f to sample MD from")
-        state = states[case]
-        dt = _md_value(config, case, "dt")
-        period, kappa = fastest_orbital_period(state, _md_value(config, case, "kappa_max"))
-        dt_max = period / STEPS_PER_FASTEST_PERIOD
-        if dt > dt_max:
-            raise ConfigError(
-                f"{where}: field 'dt' = {dt!r} is outside the allowed range (0, {dt_max:.4g}]: "
-                f"at most 1/{STEPS_PER_FASTEST_PERIOD} of the fastest orbital period "
-                f"{period:.4g} of the state (kappa = {kappa:.3g}, M0 = {state.M0:.4g})"
-            )
-        n = _md_value(config, case, "n_particles")
-        n_min = math.ceil((M0_OVER_NOISE / state.M0) ** 2)
-        if n < n_min:
-            raise ConfigError(
-                f"{where}: field 'n_particles' = {n!r} must be >= {n_min} (the finite-N "
-                f"noise 1/sqrt(N) of the magnetisation must be <= M0/{M0_OVER_NOISE:g}, "
-                f"M0 = {state.M0:.4g})"
-            )
+        check_smooth_case(config, where, case, "sampling MD")
+        check_run_physics(
+            where,
+            states[case],
+            dt=_md_value(config, case, "dt"),
+            n_particles=_md_value(config, case, "n_particles"),
+            kappa_test=_md_value(config, case, "kappa_max"),
+        )
 
 
 def _check_md_memory(runs):
     """Each run's memory estimate (MDRun.memory_mb: N, test particles, the ring buffer of
-    J(t0)) against this machine's, before anything is allocated."""
-    total = machine_memory_bytes()
+    J(t0)) against this machine's."""
     for (case, dynamics), run in runs.items():
-        need = run.memory_mb() * 1e6
-        if need > total:
-            raise ConfigError(
-                f"md run '{case}' ({dynamics}): field 'n_particles' = {run.n_particles!r} "
-                f"with n_test_{dynamics} = {run.n_test!r} needs about {_gib(need)} of "
-                f"memory, more than this machine's {_gib(total)}"
-            )
+        what = f"field 'n_particles' = {run.n_particles!r} with n_test_{dynamics} = {run.n_test!r}"
+        check_memory(f"md run '{case}' ({dynamics})", run.memory_mb() * 1e6, what)
+
+
+def _check_md_scaling(config, states):
+    """The 1/N study: its case smooth and under md.runs (`md_scaling_runs`), and at every size
+    the checks of an MD run (dt with the `run` overrides, N, memory)."""
+    sc = config.get("md_scaling")
+    if not sc:
+        return
+    check_smooth_case(config, "md_scaling", sc["case"], "the 1/N study of MD")
+    for (dynamics, n), run in md_scaling_runs(config).items():
+        where = f"md_scaling run '{sc['case']}' ({dynamics}, N = {n})"
+        check_run_physics(
+            where,
+            states[sc["case"]],
+            dt=run.dt,
+            n_particles=n,
+            kappa_test=run.kappa_max,
+            n_field="sizes",
+        )
+        what = f"field 'sizes' = {n!r} with n_test = {run.n_test!r}"
+        check_memory(where, run.memory_mb() * 1e6, what)
+
+
+# ---- spectrum of the magnetisation ------------------------------------------------------
+#: the magnetisation is stored at least this many times per fastest orbital period, so that the
+#: line n' = 1 of every orbit lies below the Nyquist frequency pi / m_every (no aliasing)
+SAMPLES_PER_FASTEST_PERIOD = 2
+
+
+def spectrum_cases(config):
+    """{case: figure} of every case whose magnetisation spectrum a figure of the config draws
+    (its registry entry has 'spectrum' inputs)."""
+    from ..analysis.figures.registry import FIGURES
+
+    out = {}
+    for fig, spec in config["figures"].items():
+        if fig in FIGURES:
+            for inp in FIGURES[fig].inputs:
+                if inp.kind != "spectrum":
+                    continue
+                try:
+                    out.update({c: fig for c in inp.cases(fig, spec) if c not in out})
+                except KeyError as e:
+                    raise ConfigError(e.args[0]) from None
+    return out
+
+
+def _spectrum_memory_bytes(runs):
+    """The spectrum job loads every seed of both dynamics whole (sums per bin, lag and block,
+    the time series, the stored tracks, Mx and My every m_every) and Welch-transforms the fine
+    magnetisation; 30 % margin and 1 GB of interpreter."""
+    need = 0.0
+    for run in runs:
+        per_seed = 8.0 * (
+            4 * run.n_bins * (run.lag_samples + 1) * (run.n_blocks + 1)
+            + (run.n_samples + 1) * (4 + 3 * run.n_store)
+            + 2 * run.n_m_samples
+        )
+        need += run.seeds * (per_seed + 64.0 * run.n_m_samples)
+    return 1e9 + 1.3 * need
+
+
+def _check_spectrum(config, states, runs):
+    """Each spectrum case has MD runs (smooth, under md.runs), samples its magnetisation
+    finely enough for its fastest orbits, and its job fits in memory."""
+    for case, fig in spectrum_cases(config).items():
+        where = f"spectrum case '{case}' (figure '{fig}')"
+        check_smooth_case(config, where, case, "the MD spectrum")
+        if (case, "bath") not in runs:
+            raise ConfigError(f"{where}: case '{case}' has no MD run under md.runs")
+        check_time_step(
+            where,
+            "m_every",
+            runs[(case, "full")].m_every,
+            states[case],
+            per_period=SAMPLES_PER_FASTEST_PERIOD,
+            why=": the Nyquist frequency pi/m_every must lie above its frequency",
+        )
+        pair = (runs[(case, "bath")], runs[(case, "full")])
+        what = f"field 'seeds' = {pair[0].seeds!r} + {pair[1].seeds!r} (bath + full)"
+        check_memory(where, _spectrum_memory_bytes(pair), what)
 
 
 # ---- relaxation ---------------------------------------------------------------------------
+#: elementary resonances per node and per (n, n') of the kinetic relaxation's collision
+#: operator (measured 8.0-9.5 on the hot-halo grids of 300-2400 nodes, n_max 3-12), and bytes
+#: per elementary resonance at the peak (measured 151, with the Jacobian; margin included)
+RESONANCES_PER_NODE = 10
+BYTES_PER_RESONANCE = 200
+
+
+def _relaxation_settings(config, case):
+    rel = config["relaxation"]
+    run = {k: v for k, v in rel.items() if k not in ("runs", "equations")}
+    run.update(rel["runs"][case] or {})
+    return run
+
+
 def _check_relaxation(config):
-    """Each case evolved by the kinetic equations exists and has a smooth f."""
+    """Each case evolved by the kinetic equations exists, has a smooth f, and its evolution
+    fits in memory (the collision operator's resonances, f at every accepted step)."""
     for case in (config.get("relaxation") or {}).get("runs", {}):
         where = f"relaxation run '{case}'"
-        if case not in config["cases"]:
-            raise ConfigError(f"{where}: names case '{case}', which is not in 'cases'")
-        if config["cases"][case]["kind"] == "two_step":
+        check_smooth_case(config, where, case, "the kinetic relaxation")
+        s = _relaxation_settings(config, case)
+        n, n_max, steps = s["n_nodes"], s["n_max"], s["max_steps"]
+        need = 1e9 + n * (RESONANCES_PER_NODE * BYTES_PER_RESONANCE * n_max**2 + 16 * (steps + 2))
+        what = f"field 'n_nodes' = {n!r} with n_max = {n_max!r} and max_steps = {steps!r}"
+        check_memory(where, need, what)
+
+
+def _relaxation_md_memory_bytes(rmd, n):
+    """One ensemble at N = n: R = particles_per_size // n realisations of n particles (theta, p,
+    sin, cos and the sampling's temporaries, 64 B each) and per measurement time the J-bar
+    histogram of each realisation (int64 and int32 copies, the entropy's floats) and its |M|,
+    phase, energy, momentum; 30 % margin and 1 GB of interpreter."""
+    r = max(1, rmd["particles_per_size"] // n)
+    per_time = r * (32 * (rmd["n_bins"] + 1) + 48)
+    return 1e9 + 1.3 * (64 * r * n + rmd["n_times"] * per_time)
+
+
+def _check_relaxation_md(config, states):
+    """Each N-body relaxation: a smooth case with a kinetic evolution to be compared with, dt
+    against its fastest orbit, every N against the noise of the magnetisation, memory."""
+    rmd = config.get("relaxation_md") or {}
+    relaxed = (config.get("relaxation") or {}).get("runs", {})
+    per_size = rmd.get("particles_per_size")
+    for case, spec in rmd.get("runs", {}).items():
+        where = f"relaxation_md run '{case}'"
+        check_smooth_case(config, where, case, "the N-body relaxation")
+        if case not in relaxed:
             raise ConfigError(
-                f"{where}: a two-step state has a delta-function df/dkappa; evolve a smooth "
-                "state (thermal or core_halo)"
+                f"{where}: case '{case}' is not under relaxation.runs (its kinetic evolutions "
+                "are what the ensembles are compared with)"
             )
+        check_time_step(where, "dt", rmd["dt"], states[case])
+        for n in spec["n_particles"]:
+            check_particle_number(where, "n_particles", n, states[case])
+            what = f"field 'n_particles' = {n!r} with particles_per_size = {per_size!r}"
+            check_memory(where, _relaxation_md_memory_bytes(rmd, n), what)
 
 
 # ---- figures ----------------------------------------------------------------------------
@@ -223,9 +395,13 @@ def check_physics(config):
     """Checks across fields of a schema-valid config with its defaults (see the docstring)."""
     states = _states(config)
     _check_md_physics(config, states)
-    _check_md_memory(md_runs(config))
+    runs = md_runs(config)
+    _check_md_memory(runs)
+    _check_md_scaling(config, states)
     _check_relaxation(config)
+    _check_relaxation_md(config, states)
     _check_figures(config)
+    _check_spectrum(config, states, runs)
 
 
 def _merge(into, new):
