@@ -158,13 +158,26 @@ class ExactBath:
 
     theta, p: initial phase points (the same a bath integrated from them would start from);
     tolerance: bound on the truncation error of each particle's cos theta and sin theta, hence
-    of Mx and My; threads: threads of the non-uniform FFT.
+    of Mx and My; threads: threads of the non-uniform FFT; chunk_points: harmonics per call of
+    the transform (default `_CHUNK_POINTS`; lowered by the tests to span many chunks).
     Attributes: `history` (n_steps + 1, 2) of (Mx, My); `momentum` (n_steps + 1) mean p;
     `energy` (mean p^2/2 - M0 cos theta, constant); `n_direct` orbits integrated directly;
     `n_points` harmonics synthesised in all; `max_harmonics_used`.
     """
 
-    def __init__(self, theta, p, M0, *, dt, n_steps, tolerance=1e-9, threads=1, max_harmonics=None):
+    def __init__(
+        self,
+        theta,
+        p,
+        M0,
+        *,
+        dt,
+        n_steps,
+        tolerance=1e-9,
+        threads=1,
+        max_harmonics=None,
+        chunk_points=_CHUNK_POINTS,
+    ):
         import finufft
 
         theta = np.asarray(theta, dtype=float)
@@ -197,12 +210,15 @@ class ExactBath:
         eps = float(np.clip(tolerance * n_b / np.sqrt(max(self.n_points, 1)), 1e-14, 1e-6))
         self.fft_eps = eps
         F = np.zeros((2, n_modes), dtype=complex)
-        size = min(self.n_points, _CHUNK_POINTS)
+        chunk_points = int(chunk_points)
+        if chunk_points < 1:
+            raise ValueError(f"chunk_points = {chunk_points!r} must be positive")
+        size = min(self.n_points, chunk_points)
         x_buf, a_buf = np.empty(size), np.empty((2, size), dtype=complex)
         first = 0
         while first < kappa_s.size:
-            # orbits first ... last - 1, at most _CHUNK_POINTS harmonics (at least one orbit)
-            last = int(np.searchsorted(offsets, offsets[first] + _CHUNK_POINTS, "right")) - 1
+            # orbits first ... last - 1, at most chunk_points harmonics (at least one orbit)
+            last = int(np.searchsorted(offsets, offsets[first] + chunk_points, "right")) - 1
             last = min(max(last, first + 1), kappa_s.size)
             m = int(offsets[last] - offsets[first])
             if m > 0:
