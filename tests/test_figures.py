@@ -145,3 +145,20 @@ def test_axes_are_labelled_and_numbers_are_not_e_notation(drawn, name):
         assert any(a.get_xlabel() for a in shared), (name, ax.get_title())
     for text in texts(figure):
         assert not re.search(r"\de[+-]\d", text), (name, text)
+
+
+def test_fig14_theory_is_drawn_over_the_points_in_another_colour(drawn):
+    """Issue 22: the theory curves of figure 14 were drawn under the MD points in their colour."""
+    from matplotlib.colors import to_rgba
+
+    for ax in main_axes(drawn["fig14_spectrum"]):
+        lines = [
+            ln for ln in ax.get_lines() if ln.get_linestyle() == "-" and len(ln.get_xdata()) > 50
+        ]
+        markers = [ln for ln in ax.get_lines() if ln.get_marker() == "o"]
+        assert lines and markers, ax.get_title()
+        for ln in lines:
+            for m in markers:
+                assert to_rgba(ln.get_color()) != to_rgba(m.get_color()), ax.get_title()
+                assert ln.get_zorder() > m.get_zorder(), ax.get_title()
+        assert ax.get_legend() is None, "legend on the data"  # one legend, under the panels

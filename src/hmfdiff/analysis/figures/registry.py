@@ -310,12 +310,20 @@ _FIGURE_LIST = (
         (Inputs("spectrum", "spectrum/{case}.nc"),),
         "Fig. 14: power spectrum of the magnetisation fluctuations, N S_x (along M) and N S_y "
         "(across M), measured in MD(bath) and MD(full) (Welch estimate over segments of one "
-        "fit window, averaged over seeds; points with standard errors) against the kinetic "
-        "theory: the bare bath spectrum (a sum over orbits of c_n'^2, sigma_n'^2 times f and "
-        "the density of states at omega = n' Omega) for MD(bath) and the dressed one (divided "
-        "by |eps_cc|^2, |eps_ss|^2) for MD(full); dashed: the theory convolved with the Welch "
-        "window (the expectation of the estimate).  The screening of the libration band and "
-        "the dielectric tensor's modes show up as dips and peaks of the MD(full) spectrum.",
+        "fit window, averaged over seeds; points with standard errors), one panel per "
+        "component and dynamics, against the kinetic theory (black lines): the bare bath "
+        "spectrum (a sum over orbits of c_n'^2, sigma_n'^2 times f and the density of states "
+        "at omega = n' Omega) for MD(bath) and the dressed one (divided by |eps_cc|^2, "
+        "|eps_ss|^2) for MD(full); open diamonds: the theory convolved with the Welch window "
+        "(the expectation of the estimate, at the Welch frequencies).  The screening of the "
+        "libration band and the dielectric tensor's modes show up as dips and peaks of the "
+        "MD(full) spectrum.  As omega -> 0 both theories vanish (exponentially: the orbits "
+        "with Omega -> 0 lie at the separatrix); in MD(full) S_y the lowest Welch frequencies "
+        "(shaded, omega < 2 x 2 pi / segment) lie above the theory: the direction of M wanders "
+        "without restoring force (eps_ss(0) = 0, the free rotation of the magnetisation, with "
+        "the total momentum held at zero), a motion the linear bath spectrum does not contain "
+        "and which the frame of the segment-averaged direction removes only below the "
+        "resolution; the agreement statistics leave these frequencies out.",
         _PRECISION_CAT,
     ),
     Figure(
