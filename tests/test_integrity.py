@@ -3,12 +3,18 @@ and validation flags for every bin whose MD or theory value is not finite."""
 
 from __future__ import annotations
 
+import math
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 import xarray as xr
 
 from hmfdiff.analysis.fits import VALIDATION_FLAGS, diffusion_fit, validation_rows
 from hmfdiff.pipeline.io import InputFileError, atomic_path, read_dataset, write_dataset
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def md_like(seed=0, n_bin=6, n_lag=40, n_block=3):
@@ -213,3 +219,167 @@ def test_validation_refuses_a_negative_theory_naming_the_variable(tmp_path):
     theory.to_netcdf(tmp_path / "theory.nc", engine="netcdf4")
     with pytest.raises(InputFileError, match=r"theory\.nc: variable 'D_lenard_balescu' is neg"):
         validation_rows("case", fit, read_dataset(tmp_path / "theory.nc"))
+
+
+# ---- valid ranges declared by the writers (issue 20 part 8) ------------------------------
+def _layouts():
+    from hmfdiff.meanfield.equilibrium import make_state
+    from hmfdiff.pipeline.layouts import equilibrium_dataset, orbits_dataset
+
+    state = make_state({"kind": "thermal", "M0": 0.6})
+    return equilibrium_dataset(state, 64, 2.5), orbits_dataset(state.M0, 64, 2.5, 3)
+
+
+@pytest.mark.parametrize(
+    "which, variable, index, value, message",
+    [
+        # a density written negative (a sign slip in the writer's physics): f >= 0
+        (0, "f", 7, -1e-3, r"variable 'f' lies outside its valid range \[0, inf\] "),
+        # a magnetisation above 1 (an unnormalised sum): M0 in [0, 1]
+        (0, "M0", (), 1.25, r"variable 'M0' lies outside its valid range \[0, 1\] "),
+        # an energy per particle below the ground state -1/2 (M0^2 instead of M0^2/2)
+        (0, "u", (), -0.6, r"variable 'u' lies outside its valid range \[-0.5, inf\] "),
+        # a Fourier coefficient of cos theta larger than 1 (a lost 1/2 pi)
+        (1, "c", (1, 10), 3.0, r"variable 'c' lies outside its valid range \[-1, 1\] "),
+    ],
+)
+def test_a_value_outside_the_writers_valid_range_is_refused_in_one_line(
+    tmp_path, which, variable, index, value, message
+):
+    """The writer declares the range (layouts.variable's `valid`), the file carries it as
+    valid_min / valid_max, and read_dataset refuses the file naming file, variable and range;
+    the same dataset unchanged reads back."""
+    ds = _layouts()[which]
+    write_dataset(ds, tmp_path / "good.nc")
+    read_dataset(tmp_path / "good.nc")
+    data = ds[variable].values.copy()
+    data[index] = value
+    ds[variable] = (ds[variable].dims, data, ds[variable].attrs)
+    write_dataset(ds, tmp_path / "bad.nc")
+    with pytest.raises(InputFileError) as err:
+        read_dataset(tmp_path / "bad.nc")
+    msg = str(err.value)
+    assert "\n" not in msg and msg.startswith(f"{tmp_path / 'bad.nc'}: "), msg
+    assert re.search(message, msg), msg
+
+
+#: the physical range every writer of the smoke run must declare, by file kind (a path
+#: pattern under results/smoke): typed here from the physics, not read from the code.
+#: None: an open side; "N": the number of particles of the file (attribute n_particles).
+NONNEG = (0, None)
+PHYSICAL_RANGES = {
+    r"equilibrium/[^/]+\.nc": {
+        **dict.fromkeys(["f", "density_of_states", "kappa_distribution", "kappa"], NONNEG),
+        **dict.fromkeys(["beta", "mass"], NONNEG),
+        "M0": (0, 1),
+        "u": (-0.5, None),  # <p^2>/2 - M0^2/2 >= -1/2
+    },
+    r"orbits/[^/]+\.nc": {
+        **dict.fromkeys(["J", "Jbar", "Omega", "dJ_dkappa", "kappa", "n"], NONNEG),
+        **dict.fromkeys(["c", "sigma"], (-1, 1)),  # |(1/2pi) int cos or sin theta e^-inw| <= 1
+        "M0": (0, 1),
+    },
+    r"theory/[^/]+\.nc": {
+        **dict.fromkeys(["J", "Jbar", "Omega", "kappa", "resonance"], NONNEG),
+        **dict.fromkeys(["D_landau", "D_lenard_balescu"], NONNEG),  # N D_dif >= 0
+        **dict.fromkeys(["gamma_landau", "gamma_lenard_balescu"], NONNEG),
+        "resonance_kappa_star": NONNEG,
+        **dict.fromkeys(["resonance_n", "resonance_nprime"], (1, None)),
+        **dict.fromkeys(["resonance_branch", "separatrix_mask", "M0"], (0, 1)),
+    },
+    r"analytic/[^/]+\.nc": {
+        **dict.fromkeys(
+            ["D_landau_sech4", "D_landau_small_kappa", "D_landau_librating_sum", "kappa"], NONNEG
+        ),
+        "D_lenard_balescu_closed": NONNEG,
+        "M0": (0, 1),
+    },
+    r"(md/[^/]+/[^/]+|scaling/[^/]+/[^/]+/N\d+)/seed\d+\.nc": {
+        **dict.fromkeys(["sum_dJ2", "sum_dJbar2", "sum_dJ2_block", "sum_dJbar2_block"], NONNEG),
+        **dict.fromkeys(
+            ["count", "count_block", "n_particles_in_bin", "n_origins_in_block"], NONNEG
+        ),
+        **dict.fromkeys(["sample_J", "jbar_edges", "jbar0", "lag", "time", "time_fine"], NONNEG),
+        **dict.fromkeys(["block", "tracer"], NONNEG),
+        **dict.fromkeys(["Mx", "My", "Mx_fine", "My_fine"], (-1, 1)),
+        "energy": (-1, None),  # bath: p^2/2 - M0 cos theta >= -1; full: H/N >= -1/2
+    },
+    r"(fits/[^/]+|scaling/[^/]+/[^/]+/N\d+/fit)\.nc": {
+        **dict.fromkeys(["ND_md_err", "msd", "n_particles_in_bin", "kappa0", "J0"], NONNEG),
+        **dict.fromkeys(["jbar0", "jbar_edges", "lag", "seed"], NONNEG),
+        "M0": (0, 1),
+        "flag": (0, 3),
+    },
+    r"scaling/[^/]+_(bath|full)\.nc": {
+        **dict.fromkeys(["ND_md_err", "n_particles_in_bin", "kappa0", "jbar0"], NONNEG),
+        "M0": (0, 1),
+        "N": (1, None),
+        "flag": (0, 3),
+    },
+    r"windowed/[^/]+\.nc": dict.fromkeys(["ND_spectrum", "jbar0", "kappa0"], NONNEG),
+    r"spectrum/[^/]+\.nc": {
+        f"NS{c}_{d}{s}": NONNEG  # spectra: means of squared moduli, and their errors
+        for c in "xy"
+        for d in ("bath", "full")
+        for s in ("", "_err", "_theory", "_smoothed", "_theory_fine")
+    },
+    r"relaxation_md/[^/]+/N\d+\.nc": {
+        **dict.fromkeys(["M_abs", "M_abs_mean", "M_abs_std", "M0_actions"], (0, 1)),
+        "M_phase": (-math.pi, math.pi),
+        "energy": (-0.5, None),
+        **dict.fromkeys(["hist", "overflow"], (0, "N")),
+        **dict.fromkeys(["f_jbar", "time", "tau", "realisation", "jbar", "jbar_edges"], NONNEG),
+    },
+    r"relaxation/[^/]+\.nc": {
+        **dict.fromkeys(["f", "f_thermal", "f_thermal_analytic", "mass", "distance"], NONNEG),
+        **dict.fromkeys(["Sdot", "cell_width", "beta_thermal", "beta_thermal_grid"], NONNEG),
+        **dict.fromkeys(["tau_relax", "tau", "tau_flux", "Jbar", "Jbar_face"], NONNEG),
+        **dict.fromkeys(["M0", "M0_thermal", "M0_thermal_grid"], (0, 1)),
+        "u": (-0.5, None),
+    },
+}
+#: variables with no physical bound of their own: a writer that bounds them would refuse
+#: legitimate results (friction, currents, signed displacements, fitted slopes, entropies)
+UNBOUNDED = {
+    "dfdkappa", "dOmega_dkappa", "Dpol_landau", "Dpol_lenard_balescu", "Dpol_landau_sech4",
+    "sum_dJ", "sum_dJ_block", "momentum", "sample_p", "ND_md", "ND_md_seed", "intercept",
+    "ND_windowed", "flux", "flux_fokker_planck_tau0", "S", "beta_fit", "entropy",
+    "entropy_realisation", "energy_drift", "eps_cc_real", "eps_cc_imag", "eps_ss_real",
+    "eps_ss_imag",
+}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def smoke_results(tmp_path_factory):
+    from _smoke import smoke_workdir
+
+    d = smoke_workdir(tmp_path_factory)
+    return d / "results" / "smoke"
+
+
+def test_every_writer_of_the_smoke_run_declares_the_physical_ranges(smoke_results):
+    """Each netCDF file of the smoke run carries valid_min / valid_max on every variable with
+    a physical range (and none on variables without one), and reads back within them."""
+    files = sorted(smoke_results.rglob("*.nc"))
+    seen = {pattern: set() for pattern in PHYSICAL_RANGES}
+    for path in files:
+        name = path.relative_to(smoke_results).as_posix()
+        kinds = [p for p in PHYSICAL_RANGES if re.fullmatch(p, name)]
+        ds = read_dataset(path)  # refuses a value outside a declared range
+        for pattern in kinds:
+            for var, (lo, hi) in PHYSICAL_RANGES[pattern].items():
+                if var not in ds.variables:
+                    continue
+                seen[pattern].add(var)
+                hi = ds.attrs["n_particles"] if hi == "N" else hi
+                attrs = ds[var].attrs
+                for key, bound in (("valid_min", lo), ("valid_max", hi)):
+                    if bound is None:
+                        assert key not in attrs, (name, var, key)
+                    else:
+                        assert key in attrs, (name, var, key)
+                        assert float(attrs[key]) == pytest.approx(bound, rel=1e-12), (name, var)
+        for var in UNBOUNDED & set(ds.variables):
+            assert not {"valid_min", "valid_max", "valid_range"} & set(ds[var].attrs), (name, var)
+    for pattern, expected in PHYSICAL_RANGES.items():
+        assert seen[pattern] == set(expected), (pattern, set(expected) - seen[pattern])

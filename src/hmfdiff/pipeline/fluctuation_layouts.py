@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .layouts import D_UNITS
+from .layouts import D_UNITS, NONNEGATIVE, UNIT_INTERVAL
 from .layouts import variable as _var
 
 __all__ = ["spectrum_dataset", "scaling_dataset", "windowed_dataset"]
@@ -36,15 +36,21 @@ def spectrum_dataset(comp):
                 _S_UNITS,
                 f"N S_{c}: measured spectrum of dM_{c} in {md} "
                 "(Welch, mean over segments and seeds)",
+                valid=NONNEGATIVE,  # a mean of squared moduli
             )
             data[f"{k}_err"] = _var(
                 (om,),
                 comp[f"{k}_err"],
                 _S_UNITS,
                 f"standard error of {k} (spread of the per-seed means / sqrt(seeds))",
+                valid=NONNEGATIVE,
             )
             data[f"{k}_theory"] = _var(
-                (om,), comp[f"{k}_theory"], _S_UNITS, f"N S_{c} of the theory, {th} (eps_{e})"
+                (om,),
+                comp[f"{k}_theory"],
+                _S_UNITS,
+                f"N S_{c} of the theory, {th} (eps_{e})",
+                valid=NONNEGATIVE,
             )
             data[f"{k}_smoothed"] = _var(
                 (om,),
@@ -52,9 +58,14 @@ def spectrum_dataset(comp):
                 _S_UNITS,
                 f"N S_{c} of the theory, {th}, convolved with the Welch window (the "
                 "expectation of the measured estimate)",
+                valid=NONNEGATIVE,  # the window's kernel K = |sum w e^(i nu t)|^2 >= 0
             )
             data[f"{k}_theory_fine"] = _var(
-                ("omega_theory",), comp[f"{k}_theory_fine"], _S_UNITS, f"N S_{c}, {th}"
+                ("omega_theory",),
+                comp[f"{k}_theory_fine"],
+                _S_UNITS,
+                f"N S_{c}, {th}",
+                valid=NONNEGATIVE,
             )
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(comp["attrs"])
@@ -69,21 +80,36 @@ def scaling_dataset(fits, sizes, *, dynamics):
     data = {
         "ND_md": _var(nb, np.stack([f["ND_md"].values for f in fits]), D_UNITS, "N D_MD"),
         "ND_md_err": _var(
-            nb, np.stack([f["ND_md_err"].values for f in fits]), D_UNITS, "standard error"
+            nb,
+            np.stack([f["ND_md_err"].values for f in fits]),
+            D_UNITS,
+            "standard error",
+            valid=NONNEGATIVE,
         ),
-        "flag": _var(nb, np.stack([f["flag"].values for f in fits]), "1", "bin quality (fits)"),
+        "flag": _var(
+            nb,
+            np.stack([f["flag"].values for f in fits]),
+            "1",
+            "bin quality (fits)",
+            valid=(ref["flag"].attrs.get("valid_min"), ref["flag"].attrs.get("valid_max")),
+        ),
         "n_particles_in_bin": _var(
             nb,
             np.stack([f["n_particles_in_bin"].values for f in fits]),
             "1",
             "tracked particles per bin, all seeds",
+            valid=NONNEGATIVE,
         ),
-        "kappa0": _var(b, ref["kappa0"].values, "1", "kappa at the bin centre"),
-        "M0": _var((), float(ref["M0"]), "1", "magnetisation used for the actions"),
+        "kappa0": _var(b, ref["kappa0"].values, "1", "kappa at the bin centre", valid=NONNEGATIVE),
+        "M0": _var(
+            (), float(ref["M0"]), "1", "magnetisation used for the actions", valid=UNIT_INTERVAL
+        ),
     }
     coords = {
-        "N": _var(("N",), np.asarray(sizes, dtype=np.int64), "1", "number of particles N"),
-        "jbar0": _var(b, ref["jbar0"].values, "action", "bin centre, J-bar_0"),
+        "N": _var(
+            ("N",), np.asarray(sizes, dtype=np.int64), "1", "number of particles N", valid=(1, None)
+        ),
+        "jbar0": _var(b, ref["jbar0"].values, "action", "bin centre, J-bar_0", valid=NONNEGATIVE),
     }
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(
@@ -112,11 +138,12 @@ def windowed_dataset(nd_windowed, nd_spectrum, fit, *, n_max, l_max):
             nd_spectrum,
             D_UNITS,
             f"asymptotic N D of the theory, {th}, through the tabulated spectrum, bin average",
+            valid=NONNEGATIVE,  # a sum over resonances of spectra >= 0
         ),
     }
     coords = {
-        "jbar0": _var(b, fit["jbar0"].values, "action", "bin centre, J-bar_0"),
-        "kappa0": _var(b, fit["kappa0"].values, "1", "kappa at the bin centre"),
+        "jbar0": _var(b, fit["jbar0"].values, "action", "bin centre, J-bar_0", valid=NONNEGATIVE),
+        "kappa0": _var(b, fit["kappa0"].values, "1", "kappa at the bin centre", valid=NONNEGATIVE),
     }
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(

@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ..meanfield import orbits
-from .layouts import ACTION, variable
+from .layouts import ACTION, ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL, variable
 
 __all__ = ["relaxation_times", "kinetic_relaxation_dataset"]
 
@@ -55,13 +55,22 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             "1",
             "phase-space density f(J-bar, tau), normalised to int f dtheta dp = 1 "
             "(rotating J-bar counts both directions of rotation)",
+            valid=NONNEGATIVE,
         ),
-        "M0": variable(T, out["M0"], "1", "magnetisation M0(tau), self-consistent with f"),
-        "u": variable(T, out["u"], "1", "energy per particle u = <p^2>/2 - M0^2/2"),
+        "M0": variable(
+            T, out["M0"], "1", "magnetisation M0(tau), self-consistent with f", valid=UNIT_INTERVAL
+        ),
+        "u": variable(
+            T, out["u"], "1", "energy per particle u = <p^2>/2 - M0^2/2", valid=ENERGY_PER_PARTICLE
+        ),
         "S": variable(T, out["S"], "1", "entropy S = -int f ln f dtheta dp"),
-        "mass": variable(T, out["mass"], "1", "int f dtheta dp"),
+        "mass": variable(T, out["mass"], "1", "int f dtheta dp", valid=NONNEGATIVE),
         "distance": variable(
-            T, out["distance"], "1", "max |f - f_eq| / max f_eq, f_eq the thermal state of u(0)"
+            T,
+            out["distance"],
+            "1",
+            "max |f - f_eq| / max f_eq, f_eq the thermal state of u(0)",
+            valid=NONNEGATIVE,
         ),
         "beta_fit": variable(T, out["beta_fit"], "1", "beta of a fit ln f = a - beta h"),
         "flux": variable(
@@ -71,21 +80,47 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             "collisional current G-bar through the J-bar grid faces (G/2 librating, G rotating; "
             "4 pi G-bar particles per unit tau), df/dtau = -dG-bar/dJ-bar",
         ),
-        "Sdot": variable(("tau_flux",), out["Sdot"], "1 / tau", "entropy production dS/dtau"),
-        "cell_width": variable(J, out["width"], ACTION, "J-bar width of each node's cell"),
+        "Sdot": variable(
+            ("tau_flux",),
+            out["Sdot"],
+            "1 / tau",
+            "entropy production dS/dtau",
+            valid=NONNEGATIVE,  # H theorem: sum over resonances of W F X^2 >= 0
+        ),
+        "cell_width": variable(
+            J, out["width"], ACTION, "J-bar width of each node's cell", valid=NONNEGATIVE
+        ),
         "f_thermal": variable(
-            J, out["f_eq"], "1", "thermal state of energy u(0) on the grid (the end point)"
+            J,
+            out["f_eq"],
+            "1",
+            "thermal state of energy u(0) on the grid (the end point)",
+            valid=NONNEGATIVE,
         ),
         "f_thermal_analytic": variable(
-            J, f_th, "1", "analytic thermal state of energy u(0) (thermal_M0_from_energy)"
+            J,
+            f_th,
+            "1",
+            "analytic thermal state of energy u(0) (thermal_M0_from_energy)",
+            valid=NONNEGATIVE,
         ),
-        "M0_thermal": variable((), thermal.M0, "1", "M0 of the analytic thermal state of u(0)"),
-        "beta_thermal": variable((), thermal.beta, "1", "beta of the analytic thermal state"),
-        "M0_thermal_grid": variable((), out["M0_eq"], "1", "M0 of the thermal state on the grid"),
-        "beta_thermal_grid": variable((), out["beta_eq"], "1", "beta of it"),
+        "M0_thermal": variable(
+            (), thermal.M0, "1", "M0 of the analytic thermal state of u(0)", valid=UNIT_INTERVAL
+        ),
+        "beta_thermal": variable(
+            (), thermal.beta, "1", "beta of the analytic thermal state", valid=NONNEGATIVE
+        ),
+        "M0_thermal_grid": variable(
+            (), out["M0_eq"], "1", "M0 of the thermal state on the grid", valid=UNIT_INTERVAL
+        ),
+        "beta_thermal_grid": variable((), out["beta_eq"], "1", "beta of it", valid=NONNEGATIVE),
         "S_thermal_grid": variable((), out["S_eq"], "1", "entropy of it"),
         "tau_relax": variable(
-            (), tau_e, TAU_UNITS, "time at which the entropy deficit S_eq - S fell by a factor e"
+            (),
+            tau_e,
+            TAU_UNITS,
+            "time at which the entropy deficit S_eq - S fell by a factor e",
+            valid=NONNEGATIVE,
         ),
         "tau_relax_initial_rate": variable(
             (), tau_rate, TAU_UNITS, "(S_eq - S(0)) / (dS/dtau)(0), the initial-rate estimate"
@@ -100,17 +135,17 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             "the initial state); NaN within 1e-4 of the separatrix",
         )
     coords = {
-        "tau": ("tau", tau, {"units": TAU_UNITS, "long_name": "rescaled time tau = t/N"}),
-        "tau_flux": (
-            "tau_flux",
+        "tau": variable(T, tau, TAU_UNITS, "rescaled time tau = t/N", valid=NONNEGATIVE),
+        "tau_flux": variable(
+            ("tau_flux",),
             out["tau_flux"],
-            {"units": TAU_UNITS, "long_name": "times at which the current is stored"},
+            TAU_UNITS,
+            "times at which the current is stored",
+            valid=NONNEGATIVE,
         ),
-        "Jbar": ("Jbar", jbar, {"units": ACTION, "long_name": "rescaled action J-bar of nodes"}),
-        "Jbar_face": (
-            "Jbar_face",
-            jface,
-            {"units": ACTION, "long_name": "J-bar of the faces between nodes"},
+        "Jbar": variable(J, jbar, ACTION, "rescaled action J-bar of nodes", valid=NONNEGATIVE),
+        "Jbar_face": variable(
+            F, jface, ACTION, "J-bar of the faces between nodes", valid=NONNEGATIVE
         ),
     }
     ds = xr.Dataset(data, coords=coords)

@@ -37,8 +37,26 @@ D_UNITS = "action^2 / time (N * D, the 1/N factored out)"
 ACTION = "action (dimensionless HMF units)"
 
 
-def variable(dims, data, units, long_name, **attrs):
-    """A netCDF variable with named dimensions, units and long_name (and any other attributes)."""
+#: physical ranges of the values (`variable`'s keyword `valid`): only true bounds, which no
+#: legitimate result can cross
+NONNEGATIVE = (0, None)  # counts, sums of squares, densities f, D_dif, errors, actions, ...
+UNIT_INTERVAL = (0, 1)  # M0, |M|, probabilities, flags 0/1
+COMPONENT = (-1, 1)  # Mx, My, Fourier coefficients of cos and sin theta
+#: energy per particle of the interacting system: H/N = <p^2>/2 - M^2/2 >= -1/2
+ENERGY_PER_PARTICLE = (-0.5, None)
+
+
+def variable(dims, data, units, long_name, valid=None, **attrs):
+    """A netCDF variable with named dimensions, units and long_name (and any other attributes).
+
+    valid: (lo, hi), the physical range of the values (None for an open side), stored as the
+    CF attributes valid_min / valid_max in the variable's type; `io.read_dataset` refuses a
+    file holding a value outside it (NaN, a masked value, is not outside)."""
+    if valid is not None:
+        kind = np.asarray(data).dtype.type
+        for key, bound in zip(("valid_min", "valid_max"), valid, strict=True):
+            if bound is not None:
+                attrs[key] = kind(bound)
     return xr.Variable(dims, data, {"units": units, "long_name": long_name, **attrs})
 
 
@@ -50,7 +68,13 @@ def equilibrium_dataset(state, n_kappa, kappa_max):
     dos = 2.0 * np.pi * orbits.phase_space_weight(kappa) * orbits.dJ_dkappa(kappa, state.M0)
     k = ("kappa",)
     data = {
-        "f": variable(k, f, "1", "phase-space density f(kappa), normalised to int f dtheta dp = 1"),
+        "f": variable(
+            k,
+            f,
+            "1",
+            "phase-space density f(kappa), normalised to int f dtheta dp = 1",
+            valid=NONNEGATIVE,
+        ),
         "dfdkappa": variable(
             k, state.dfdkappa(kappa), "1", "df/dkappa (smooth part; steps in attribute 'steps')"
         ),
@@ -60,22 +84,49 @@ def equilibrium_dataset(state, n_kappa, kappa_max):
             "1",
             "phase-space area per unit kappa, "
             "2 pi dJ/dkappa times 2 on rotating orbits (both directions)",
+            valid=NONNEGATIVE,
         ),
         "kappa_distribution": variable(
-            k, f * dos, "1", "probability density of kappa, f * density_of_states"
+            k,
+            f * dos,
+            "1",
+            "probability density of kappa, f * density_of_states",
+            valid=NONNEGATIVE,
         ),
-        "M0": variable((), float(state.M0), "1", "magnetisation M0 (self-consistent)"),
-        "u": variable((), float(state.u), "1", "energy per particle u = <p^2>/2 - M0^2/2"),
+        "M0": variable(
+            (), float(state.M0), "1", "magnetisation M0 (self-consistent)", valid=UNIT_INTERVAL
+        ),
+        "u": variable(
+            (),
+            float(state.u),
+            "1",
+            "energy per particle u = <p^2>/2 - M0^2/2",
+            valid=ENERGY_PER_PARTICLE,
+        ),
     }
     if isinstance(state, ThermalState):
         data["beta"] = variable(
-            (), float(state.beta), "1", "inverse temperature beta, M0 = I1(beta M0)/I0(beta M0)"
+            (),
+            float(state.beta),
+            "1",
+            "inverse temperature beta, M0 = I1(beta M0)/I0(beta M0)",
+            valid=NONNEGATIVE,
         )
     if isinstance(state, CoreHaloState):
         data["mass"] = variable(
-            (), float(state.mass), "1", "int f_raw dtheta dp before normalisation"
+            (),
+            float(state.mass),
+            "1",
+            "int f_raw dtheta dp before normalisation",
+            valid=NONNEGATIVE,
         )
-    kc = variable(k, kappa, "1", "orbit label kappa = sqrt((h + M0)/(2 M0)); < 1 librating")
+    kc = variable(
+        k,
+        kappa,
+        "1",
+        "orbit label kappa = sqrt((h + M0)/(2 M0)); < 1 librating",
+        valid=NONNEGATIVE,
+    )
     ds = xr.Dataset(data, coords={"kappa": kc})
     ds.attrs["kind"] = state.kind if not getattr(state, "shape", "") == "step" else "two_step"
     ds.attrs["state_params"] = json.dumps(state.params, sort_keys=True)
@@ -110,33 +161,45 @@ def orbits_dataset(M0, n_kappa, kappa_max, n_max):
     n = np.arange(0, n_max + 1)
     k, nk = ("kappa",), ("n", "kappa")
     data = {
-        "J": variable(k, orbits.action(kappa, M0), "1", "action J"),
+        "J": variable(k, orbits.action(kappa, M0), "1", "action J", valid=NONNEGATIVE),
         "Jbar": variable(
-            k, orbits.rescaled_action(kappa, M0), "1", "rescaled action J-bar (J/2 for kappa < 1)"
+            k,
+            orbits.rescaled_action(kappa, M0),
+            "1",
+            "rescaled action J-bar (J/2 for kappa < 1)",
+            valid=NONNEGATIVE,
         ),
-        "Omega": variable(k, orbits.frequency(kappa, M0), "1", "orbital frequency Omega = dh/dJ"),
-        "dJ_dkappa": variable(k, orbits.dJ_dkappa(kappa, M0), "1", "dJ/dkappa"),
+        "Omega": variable(
+            k,
+            orbits.frequency(kappa, M0),
+            "1",
+            "orbital frequency Omega = dh/dJ",
+            valid=NONNEGATIVE,
+        ),
+        "dJ_dkappa": variable(k, orbits.dJ_dkappa(kappa, M0), "1", "dJ/dkappa", valid=NONNEGATIVE),
         "dOmega_dkappa": variable(k, orbits.dOmega_dkappa(kappa, M0), "1", "dOmega/dkappa"),
         "c": variable(
             nk,
             cos_coefficient(n[:, None], kappa[None, :]),
             "1",
             "c_n = (1/2pi) int cos(theta(w)) exp(-inw) dw (real; c_-n = c_n)",
+            valid=COMPONENT,
         ),
         "sigma": variable(
             nk,
             sin_coefficient_imag(n[:, None], kappa[None, :], 1.0),
             "1",
             "s_n = -i sigma_n for p > 0 (sigma flips sign for p < 0; s_-n = -s_n)",
+            valid=COMPONENT,
         ),
-        "M0": variable((), float(M0), "1", "magnetisation M0"),
+        "M0": variable((), float(M0), "1", "magnetisation M0", valid=UNIT_INTERVAL),
     }
     for name, var in data.items():
         if not np.all(np.isfinite(var.values)):
             raise FloatingPointError(f"orbits dataset: non-finite values in {name}")
     coords = {
-        "kappa": variable(k, kappa, "1", "orbit label kappa"),
-        "n": variable(("n",), n, "1", "Fourier harmonic n"),
+        "kappa": variable(k, kappa, "1", "orbit label kappa", valid=NONNEGATIVE),
+        "n": variable(("n",), n, "1", "Fourier harmonic n", valid=NONNEGATIVE),
     }
     return xr.Dataset(data, coords=coords)
 
@@ -149,8 +212,8 @@ def theory_dataset(grid):
     note = grid["attrs"]["separatrix_band_note"]
     k, kr = ("kappa",), ("kappa", "resonance")
 
-    def kv(vals, units, long_name):
-        return variable(k, vals, units, long_name, masked=note)
+    def kv(vals, units, long_name, valid=NONNEGATIVE):
+        return variable(k, vals, units, long_name, valid=valid, masked=note)
 
     res = grid["resonances"]
     data = {
@@ -165,15 +228,21 @@ def theory_dataset(grid):
             "1",
             "harmonic n of the test orbit (n > 0; the mirror resonance (-n, -n') is included "
             "in gamma)",
+            valid=(1, None),
         ),
         "resonance_nprime": variable(
-            ("resonance",), res["nprime"].astype(np.int32), "1", "harmonic n' of the bath orbit"
+            ("resonance",),
+            res["nprime"].astype(np.int32),
+            "1",
+            "harmonic n' of the bath orbit",
+            valid=(1, None),
         ),
         "resonance_branch": variable(
             ("resonance",),
             res["branch"].astype(np.int32),
             "1",
             "orbit family of kappa*",
+            valid=UNIT_INTERVAL,
             flag_values="0 1",
             flag_meanings="libration rotation",
         ),
@@ -182,11 +251,16 @@ def theory_dataset(grid):
             res["kappa_star"],
             "1",
             "resonant kappa*: n Omega(kappa) = n' Omega(kappa*)",
+            valid=NONNEGATIVE,
             missing="NaN where the resonance has no root or kappa is in the separatrix band",
         ),
-        "M0": variable((), float(grid["M0"]), "1", "magnetisation M0"),
+        "M0": variable((), float(grid["M0"]), "1", "magnetisation M0", valid=UNIT_INTERVAL),
         "separatrix_mask": variable(
-            k, grid["masked"].astype(np.int8), "1", "1 where |kappa - 1| < separatrix_band"
+            k,
+            grid["masked"].astype(np.int8),
+            "1",
+            "1 where |kappa - 1| < separatrix_band",
+            valid=UNIT_INTERVAL,
         ),
     }
     for name, word, eqs in (
@@ -199,6 +273,7 @@ def theory_dataset(grid):
             coef["Dpol"],
             D_UNITS,
             f"N D_pol {word} collective effects (eq. hmfCEpol); flux = D_dif df/dJ - D_pol f",
+            valid=None,  # friction: no sign of its own
         )
         data[f"gamma_{name}"] = variable(
             kr,
@@ -206,6 +281,7 @@ def theory_dataset(grid):
             D_UNITS,
             f"contribution gamma(kappa, kappa*) of each resonance to N D_dif ({eqs.split(',')[0]};"
             f" fig. hmfcontribs); sums to D_{name}",
+            valid=NONNEGATIVE,
             missing="NaN where the resonance has no root",
         )
     for comp in ("cc", "ss"):
@@ -214,7 +290,11 @@ def theory_dataset(grid):
         data[f"eps_{comp}_imag"] = variable(("omega",), e.imag, "1", f"Im eps_{comp}(omega)")
     coords = {
         "kappa": variable(
-            k, grid["kappa"], "1", "orbit label kappa (eq. hmfkappa); < 1 librating, > 1 rotating"
+            k,
+            grid["kappa"],
+            "1",
+            "orbit label kappa (eq. hmfkappa); < 1 librating, > 1 rotating",
+            valid=NONNEGATIVE,
         ),
         "omega": variable(
             ("omega",), grid["omega"], "1/time", "real frequency (Landau prescription omega + i0)"
@@ -224,6 +304,7 @@ def theory_dataset(grid):
             np.arange(res["n"].size, dtype=np.int32),
             "1",
             "resonance index, ordered (n, n', branch)",
+            valid=NONNEGATIVE,
         ),
     }
     ds = xr.Dataset(data, coords=coords)
@@ -245,7 +326,13 @@ def closed_forms_dataset(forms):
         f"|n|, |n'| <= {n_max}",
     }
     data = {
-        name: variable(("kappa",), np.asarray(vals, dtype=float), D_UNITS, long_names[name])
+        name: variable(
+            ("kappa",),
+            np.asarray(vals, dtype=float),
+            D_UNITS,
+            long_names[name],
+            valid=NONNEGATIVE if name.startswith("D_") else None,  # N D_dif >= 0; D_pol: friction
+        )
         for name, vals in forms["D"].items()
     }
     for comp, e in forms["eps"].items():
@@ -253,9 +340,11 @@ def closed_forms_dataset(forms):
             data[f"eps_{comp}_{part}"] = variable(
                 ("omega",), vals, "1", f"{word} eps_{comp}(omega), closed form", method=method
             )
-    data["M0"] = variable((), float(forms["M0"]), "1", "magnetisation M0")
+    data["M0"] = variable((), float(forms["M0"]), "1", "magnetisation M0", valid=UNIT_INTERVAL)
     coords = {
-        "kappa": variable(("kappa",), forms["kappa"], "1", "orbit label kappa (< 1)"),
+        "kappa": variable(
+            ("kappa",), forms["kappa"], "1", "orbit label kappa (< 1)", valid=NONNEGATIVE
+        ),
         "omega": variable(("omega",), forms["omega"], "1/time", "real frequency"),
     }
     ds = xr.Dataset(data, coords=coords)
@@ -278,17 +367,17 @@ def md_dataset(result):
     bl, bll, t, tt = ("bin", "lag"), ("bin", "lag", "block"), ("time",), ("time", "tracer")
     data = {}
 
-    def sums(name, i, units, long_name, dtype=float):  # per (bin, lag) and per block
+    def sums(name, i, units, long_name, dtype=float, valid=NONNEGATIVE):  # per (bin, lag), block
         vals = a[i].astype(dtype)
-        data[name] = variable(bl, vals.sum(-1), units, long_name)
+        data[name] = variable(bl, vals.sum(-1), units, long_name, valid=valid)
         data[f"{name}_block"] = variable(
-            bll, vals, units, f"{name} restricted to a block of origins"
+            bll, vals, units, f"{name} restricted to a block of origins", valid=valid
         )
 
     pairs = "sum over origins and particles of"
     sums("sum_dJ2", 0, f"{ACTION}^2", f"{pairs} (J(t0+lag) - J(t0))^2")
     sums("sum_dJbar2", 1, f"{ACTION}^2", f"{pairs} (Jbar(t0+lag) - Jbar(t0))^2")
-    sums("sum_dJ", 2, ACTION, f"{pairs} J(t0+lag) - J(t0)")
+    sums("sum_dJ", 2, ACTION, f"{pairs} J(t0+lag) - J(t0)", valid=None)
     sums("count", 3, "1", "number of (origin, particle) pairs in the sums", np.int64)
     who = "the bath / interacting particles"
     data.update(
@@ -297,14 +386,23 @@ def md_dataset(result):
             result.n_particles_in_bin,
             "1",
             "number of distinct particles in the bin at any origin",
+            valid=NONNEGATIVE,
         ),
         n_origins_in_block=variable(
-            ("block",), result.n_origins_in_block, "1", "number of time origins in the block"
+            ("block",),
+            result.n_origins_in_block,
+            "1",
+            "number of time origins in the block",
+            valid=NONNEGATIVE,
         ),
-        Mx=variable(t, series["Mx"], "1", f"magnetisation x component of {who}"),
-        My=variable(t, series["My"], "1", f"magnetisation y component of {who}"),
+        Mx=variable(t, series["Mx"], "1", f"magnetisation x component of {who}", valid=COMPONENT),
+        My=variable(t, series["My"], "1", f"magnetisation y component of {who}", valid=COMPONENT),
         energy=variable(
-            t, series["energy"], "energy per particle", result.attrs["energy_definition"]
+            t,
+            series["energy"],
+            "energy per particle",
+            result.attrs["energy_definition"],
+            valid=(-1.0, None),  # H/N >= -1/2 (full); p^2/2 - M0 cos theta >= -M0 >= -1 (bath)
         ),
         momentum=variable(
             t,
@@ -317,51 +415,73 @@ def md_dataset(result):
             result.m_fine[:, 0],
             "1",
             f"magnetisation x component of {who}, every m_every (for its spectrum)",
+            valid=COMPONENT,
         ),
         My_fine=variable(
             ("time_fine",),
             result.m_fine[:, 1],
             "1",
             f"magnetisation y component of {who}, every m_every (for its spectrum)",
+            valid=COMPONENT,
         ),
         sample_theta=variable(
             tt, result.sample_theta, "rad", "angle of sample tracked particles in the action frame"
         ),
         sample_p=variable(tt, result.sample_p, "1", "momentum of sample tracked particles"),
-        sample_J=variable(tt, result.sample_J, ACTION, "action J of sample tracked particles"),
+        sample_J=variable(
+            tt, result.sample_J, ACTION, "action J of sample tracked particles", valid=NONNEGATIVE
+        ),
     )
     coords = {
         "jbar_edges": variable(
-            ("edge",), edges, ACTION, "edges of the bins of initial rescaled action"
+            ("edge",),
+            edges,
+            ACTION,
+            "edges of the bins of initial rescaled action",
+            valid=NONNEGATIVE,
         ),
         "jbar0": variable(
             ("bin",),
             0.5 * (edges[1:] + edges[:-1]),
             ACTION,
             "bin centre of the initial rescaled action Jbar(t0)",
+            valid=NONNEGATIVE,
         ),
         "lag": variable(
             ("lag",),
             np.arange(run.lag_samples + 1) * run.sample_every,
             "time (1/sqrt(M=1) units)",
             "time lag Delta t",
+            valid=NONNEGATIVE,
         ),
         "time": variable(
             t,
             np.arange(result.sample_theta.shape[0]) * run.sample_every,
             "time",
             "time since the start of production",
+            valid=NONNEGATIVE,
         ),
         "time_fine": variable(
             ("time_fine",),
             np.arange(result.m_fine.shape[0]) * run.m_every,
             "time",
             "time since the start of production (magnetisation every m_every)",
+            valid=NONNEGATIVE,
         ),
         "block": variable(
-            ("block",), np.arange(run.n_blocks), "1", "block of consecutive time origins"
+            ("block",),
+            np.arange(run.n_blocks),
+            "1",
+            "block of consecutive time origins",
+            valid=NONNEGATIVE,
         ),
-        "tracer": variable(("tracer",), result.tracer, "1", "index of the stored tracked particle"),
+        "tracer": variable(
+            ("tracer",),
+            result.tracer,
+            "1",
+            "index of the stored tracked particle",
+            valid=NONNEGATIVE,
+        ),
     }
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(result.attrs)
@@ -375,7 +495,12 @@ def fit_dataset(fit):
     data = {
         "ND_md": variable(b, fit["ND_md"], nd, "N D_MD = N slope/2 of <dJ^2>(dt) (eq. hmfmddif)"),
         "ND_md_err": variable(
-            b, fit["ND_md_err"], nd, "standard error of ND_md", method=fit["attrs"]["error_method"]
+            b,
+            fit["ND_md_err"],
+            nd,
+            "standard error of ND_md",
+            valid=NONNEGATIVE,
+            method=fit["attrs"]["error_method"],
         ),
         "ND_md_seed": variable(("seed", "bin"), fit["ND_md_seed"], nd, "N D_MD of each seed"),
         "intercept": variable(b, fit["intercept"], "action^2", "intercept of the linear fit"),
@@ -384,27 +509,37 @@ def fit_dataset(fit):
             fit["msd"],
             "action^2",
             "<dJ^2>(dt) pooled over seeds, J units (4 <dJbar^2> below the separatrix)",
+            valid=NONNEGATIVE,
         ),
         "n_particles_in_bin": variable(
-            b, fit["n_particles_in_bin"], "1", "tracked particles per bin, all seeds"
+            b,
+            fit["n_particles_in_bin"],
+            "1",
+            "tracked particles per bin, all seeds",
+            valid=NONNEGATIVE,
         ),
-        "kappa0": variable(b, fit["kappa0"], "1", "kappa at the bin centre"),
-        "J0": variable(b, fit["J0"], "action", "action J at the bin centre"),
+        "kappa0": variable(b, fit["kappa0"], "1", "kappa at the bin centre", valid=NONNEGATIVE),
+        "J0": variable(b, fit["J0"], "action", "action J at the bin centre", valid=NONNEGATIVE),
         "flag": variable(
             b,
             fit["flag"],
             "1",
             "bin quality",
+            valid=(min(flags), max(flags)),
             flag_values=" ".join(map(str, flags)),
             flag_meanings="; ".join(flags.values()),
         ),
-        "M0": variable((), float(fit["M0"]), "1", "magnetisation used for the actions"),
+        "M0": variable(
+            (), float(fit["M0"]), "1", "magnetisation used for the actions", valid=UNIT_INTERVAL
+        ),
     }
     coords = {
-        "jbar0": variable(b, fit["jbar0"], "action", "bin centre, J-bar_0"),
-        "jbar_edges": variable(("edge",), fit["jbar_edges"], "action", "edges of the J-bar_0 bins"),
-        "lag": variable(("lag",), fit["lag"], "time", "time lag dt"),
-        "seed": variable(("seed",), fit["seed"], "1", "MD seed (realisation)"),
+        "jbar0": variable(b, fit["jbar0"], "action", "bin centre, J-bar_0", valid=NONNEGATIVE),
+        "jbar_edges": variable(
+            ("edge",), fit["jbar_edges"], "action", "edges of the J-bar_0 bins", valid=NONNEGATIVE
+        ),
+        "lag": variable(("lag",), fit["lag"], "time", "time lag dt", valid=NONNEGATIVE),
+        "seed": variable(("seed",), fit["seed"], "1", "MD seed (realisation)", valid=NONNEGATIVE),
     }
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(fit["attrs"])

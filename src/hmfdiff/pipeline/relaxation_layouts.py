@@ -10,6 +10,7 @@ import numpy as np
 import xarray as xr
 
 from ..analysis.relaxation_md import density_from_histogram, entropy_from_histogram
+from .layouts import ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL
 from .layouts import variable as _var
 
 __all__ = ["relaxation_md_dataset"]
@@ -33,18 +34,21 @@ def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
                 out["M_abs"],
                 "1",
                 "modulus of the magnetisation |M| of each realisation",
+                valid=UNIT_INTERVAL,
             ),
             "M_phase": _var(
                 ("time", "realisation"),
                 out["M_phase"],
                 "rad",
                 "direction of the magnetisation arg(Mx + i My)",
+                valid=(-np.pi, np.pi),
             ),
             "energy": _var(
                 ("time", "realisation"),
                 out["energy"],
                 "energy per particle",
                 "H/N = sum p^2/(2N) - |M|^2/2 (eq. hmfhamiltonian)",
+                valid=ENERGY_PER_PARTICLE,
             ),
             "momentum": _var(
                 ("time", "realisation"),
@@ -58,36 +62,47 @@ def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
                 "energy per particle",
                 "H/N(t) - H/N(0)",
             ),
-            "M_abs_mean": _var(("time",), out["M_abs"].mean(axis=1), "1", "ensemble mean of |M|"),
+            "M_abs_mean": _var(
+                ("time",),
+                out["M_abs"].mean(axis=1),
+                "1",
+                "ensemble mean of |M|",
+                valid=UNIT_INTERVAL,
+            ),
             "M_abs_std": _var(
                 ("time",),
                 out["M_abs"].std(axis=1, ddof=1) if R > 1 else np.zeros(t.size),
                 "1",
                 "standard deviation of |M| between realisations",
+                valid=UNIT_INTERVAL,
             ),
             "M0_actions": _var(
                 ("time",),
                 out["M0_actions"],
                 "1",
                 "magnetisation defining the actions: ensemble mean of |M| at that time",
+                valid=UNIT_INTERVAL,
             ),
             "hist": _var(
                 ("time", "realisation", "jbar"),
                 hist.astype(np.int32),
                 "1",
                 "number of particles per J-bar bin, in the realisation's magnetisation frame",
+                valid=(0, n_particles),
             ),
             "overflow": _var(
                 ("time", "realisation"),
                 overflow.astype(np.int32),
                 "1",
                 "number of particles beyond the last J-bar edge",
+                valid=(0, n_particles),
             ),
             "f_jbar": _var(
                 ("time", "jbar"),
                 density_from_histogram(pooled, edges, pooled_over),
                 "1",
                 "phase-space density f(J-bar) of the pooled histogram, normalised to one particle",
+                valid=NONNEGATIVE,
             ),
             "entropy": _var(
                 ("time",),
@@ -103,13 +118,29 @@ def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
             ),
         },
         coords={
-            "time": _var(("time",), t, "time", "time t in HMF units (not rescaled)"),
-            "tau": _var(("time",), t / n_particles, "time", "rescaled time tau = t / N"),
-            "realisation": _var(
-                ("realisation",), np.arange(R), "1", "index of the realisation (its seed member)"
+            "time": _var(
+                ("time",), t, "time", "time t in HMF units (not rescaled)", valid=NONNEGATIVE
             ),
-            "jbar": _var(("jbar",), 0.5 * (edges[1:] + edges[:-1]), a1, "centre of the J-bar bin"),
-            "jbar_edges": _var(("jbar_edge",), edges, a1, "edges of the J-bar bins"),
+            "tau": _var(
+                ("time",), t / n_particles, "time", "rescaled time tau = t / N", valid=NONNEGATIVE
+            ),
+            "realisation": _var(
+                ("realisation",),
+                np.arange(R),
+                "1",
+                "index of the realisation (its seed member)",
+                valid=NONNEGATIVE,
+            ),
+            "jbar": _var(
+                ("jbar",),
+                0.5 * (edges[1:] + edges[:-1]),
+                a1,
+                "centre of the J-bar bin",
+                valid=NONNEGATIVE,
+            ),
+            "jbar_edges": _var(
+                ("jbar_edge",), edges, a1, "edges of the J-bar bins", valid=NONNEGATIVE
+            ),
         },
     )
     ds.attrs.update(
