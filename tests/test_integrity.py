@@ -193,7 +193,7 @@ def _fit_and_theory():
             "M0": ((), 0.7),
         },
         coords={"jbar_edges": ("edge", np.linspace(0, 2, 7))},
-        attrs={"dynamics": "full", "n_seeds": 3},
+        attrs={"dynamics": "full", "n_seeds": 3, "min_particles": 10, "separatrix_band": 0.03},
     )
     kappa = np.linspace(0.05, 2.0, 40)
     D = np.where(np.abs(kappa - 1) < 0.05, np.nan, 1.0 + 0.1 * kappa)
