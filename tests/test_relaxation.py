@@ -7,9 +7,10 @@ import pytest
 
 from hmfdiff.kinetic.collision import CollisionOperator, geometry, resonance_events
 from hmfdiff.kinetic.flux import fokker_planck_current, fokker_planck_jbar_current, hmflb_current
-from hmfdiff.kinetic.grid import action_grid, project_state
+from hmfdiff.kinetic.grid import ActionGrid, action_grid, project_state
 from hmfdiff.kinetic.relaxation import (
     RelaxationSettings,
+    _Dielectric,
     _Operator,
     evolve,
 )
@@ -49,24 +50,92 @@ def test_hmflb_resonance_sum_equals_fokker_planck_current(collective):
     assert np.max(np.abs(hmflb_current(th, kappa, collective=collective))) < 1e-12 * scale
 
 
-@pytest.mark.parametrize("equation", EQUATIONS)
-def test_discrete_current_converges_to_the_fokker_planck_current(hot, equation):
-    """The scheme's current through the faces of a 300-node grid at tau = 0 against the
-    Fokker-Planck current of the analytic state, away from the separatrix band (where the
-    continuum current changes by orders of magnitude within the grid spacing)."""
-    s = RelaxationSettings(equation=equation, n_nodes=300, kappa_max=3.5)
+@pytest.fixture(scope="module", params=EQUATIONS)
+def current_300(request, hot):
+    """The scheme's current G-bar through the faces of a 300-node grid at tau = 0."""
+    s = RelaxationSettings(equation=request.param, n_nodes=300, kappa_max=3.5)
     grid = action_grid(hot.M0, s.n_nodes, s.kappa_max, hot, s.feature_share, s.separatrix_share)
     f, M0 = project_state(hot, grid)
     oper = _Operator(grid, f, M0, s)
     G = oper.op.face_flux(np.log(f)) / (4 * np.pi)
+    collective = request.param == "lenard_balescu"
     jf = 0.5 * (grid.jbar[1:] + grid.jbar[:-1])
-    ref = fokker_planck_jbar_current(hot, jf, collective=equation == "lenard_balescu")
+    ref = fokker_planck_jbar_current(hot, jf, collective=collective)
     kf = oper.geom.kappa_face
-    sel = (np.abs(kf - 1) > 0.05) & (np.abs(ref) > 1e-3 * np.nanmax(np.abs(ref)))
+    scale = np.nanmax(np.abs(ref[np.abs(kf - 1) > 0.05]))
+    return dict(grid=grid, geom=oper.geom, G=G, ref=ref, scale=scale, collective=collective)
+
+
+def test_discrete_current_converges_to_the_fokker_planck_current(current_300):
+    """The scheme's current through the faces of a 300-node grid at tau = 0 against the
+    Fokker-Planck current of the analytic state, pointwise away from the separatrix band (where
+    the continuum current changes by orders of magnitude within the grid spacing: see the
+    cell-integrated test below)."""
+    c = current_300
+    G, ref, kf = c["G"], c["ref"], c["geom"].kappa_face
+    sel = (np.abs(kf - 1) > 0.05) & (np.abs(ref) > 1e-3 * c["scale"])
     err = np.abs(G[sel] / ref[sel] - 1)
     assert sel.sum() > 50
     # measured: median 0.6 % (Landau), 0.2 % (Lenard-Balescu); 90th percentile 2.8 %, 0.9 %
     assert np.median(err) < 0.02 and np.percentile(err, 90) < 0.06
+
+
+def _cell_integrals(hot, jbar, cells, collective, n_gauss, js=None, n_graded=48):
+    """int G-bar dJ-bar of the continuum (Fokker-Planck) current over the dual cells
+    [J-bar_a, J-bar_{a+1}] (Gauss-Legendre); the cell holding js split there into n_graded
+    geometric panels on each side down to 1e-10 of its half-widths."""
+    x, w = np.polynomial.legendre.leggauss(n_gauss)
+    pts, wts, owner = [], [], []
+    for i, a in enumerate(cells):
+        lo, hi = jbar[a], jbar[a + 1]
+        if js is not None and lo < js < hi:
+            below = js - (js - lo) * np.geomspace(1.0, 1e-10, n_graded)
+            above = js + (hi - js) * np.geomspace(1e-10, 1.0, n_graded)
+            e = np.concatenate((below, [js], above))
+        else:
+            e = np.array([lo, hi])
+        left, right = e[:-1, None], e[1:, None]
+        pts.append((0.5 * (right - left) * x + 0.5 * (right + left)).ravel())
+        wts.append((0.5 * (right - left) * w).ravel())
+        owner.append(np.full(pts[-1].size, i))
+    pts, wts, owner = (np.concatenate(v) for v in (pts, wts, owner))
+    ref = fokker_planck_jbar_current(hot, pts, collective=collective, band=0.0)
+    return np.bincount(owner, weights=wts * ref, minlength=len(cells))
+
+
+def test_current_in_the_separatrix_band_cell_by_cell(hot, current_300):
+    """The faces within |kappa - 1| < 0.05 (excluded above): the scheme's current times the
+    cell width, G-bar_a (J-bar_{a+1} - J-bar_a), is the integral of the current over the dual
+    cell, which is compared with the continuum current integrated over the same cell.  Pointwise
+    values cannot be compared there: the continuum current has narrow resonance spikes (partner
+    orbits on the steep core edge, with Omega -> 0 at the separatrix) a few per cent of a cell
+    wide, and next to kappa = 1 a comb of them that needs 48 geometric panels a side to
+    integrate (24 panels: 40 % off)."""
+    c = current_300
+    geom, G, scale = c["geom"], c["G"], c["scale"]
+    jbar = c["grid"].jbar
+    js = orbits.jbar_separatrix(hot.M0)
+    sep = int(np.searchsorted(jbar, js)) - 1
+    band = [a for a in np.flatnonzero(np.abs(geom.kappa_face - 1.0) < 0.05) if a != sep]
+    assert len(band) > 30
+    # 8 Gauss points a cell (6 with the dielectric, whose resonance sum costs 10 times more)
+    ref = _cell_integrals(hot, jbar, band, c["collective"], n_gauss=6 if c["collective"] else 8)
+    got = G[band] * geom.dj[band]
+    # relative error with a floor of 1 % of the far-field current scale (cells where the
+    # current crosses zero); measured max 4.7 % (Landau), 2.7 % (Lenard-Balescu), the spikes
+    # of 10-900 x the far-field scale at kappa = 0.988 and 1.011 included
+    err = np.abs(got - ref) / (np.abs(ref) + 0.01 * scale * geom.dj[band])
+    assert np.max(err) < 0.1, np.max(err)
+    # the cell holding the separatrix, where the current leaving the libration band splits
+    # between the two directions of rotation: measured ratio 1.20 at 300 nodes, 0.87-1.22 on
+    # 120-600 nodes (Landau): the scheme resolves the comb of resonances only on average (f is
+    # sampled linearly within the cell).  Landau only: with the dielectric the reference
+    # integral is not converged at an affordable cost (48 panels x 4 points: ratio 1.23,
+    # x 8 points: 1.08, 13 s)
+    if c["collective"]:
+        return
+    ref_sep = _cell_integrals(hot, jbar, [sep], False, n_gauss=4, js=js)[0]
+    assert G[sep] * geom.dj[sep] / ref_sep == pytest.approx(1.0, abs=0.3)
 
 
 @pytest.mark.parametrize("equation", EQUATIONS)
@@ -128,6 +197,33 @@ def test_mass_energy_and_entropy(hot_run):
     assert np.all(dS >= -1e-13 * abs(out["S"][0]))  # H-theorem at every step
     assert out["S"][-1] > out["S"][0] + 1e-3
     assert out["M0"][-1] < out["M0"][0] - 1e-3  # the separatrix moves: nodes change family
+
+
+def test_current_at_a_later_time_is_that_of_the_state_at_that_time(hot_run):
+    """The current stored at the end of the run (M0 has moved, f by 20-30 % of max f) against
+    the operator built afresh from f and M0 at that time, with a dielectric computed from that
+    f alone (no cache): the orbits, resonances and eps must follow the state.  The operator of
+    a given (f, M0) is checked against the direct resonance sum at tau = 0 (tests above); at
+    tau > 0 a pointwise direct sum is not a usable reference on these grids: within
+    tau ~ 1e-3 the evolved f acquires kinks in d ln f/dh at the resonance thresholds, and the
+    current of its spline interpolant differs from the 120-node (and 600-node) operator by
+    O(1) (measured with TabulatedState at tau = 0.003-10).
+
+    Measured (120 nodes): stored vs fresh 0 (Landau), 1.8 % of max |G| (Lenard-Balescu: eps
+    lags f by at most eps_refresh = 1 %); eps of tau = 0 kept: 9.4 x max |G|; eps of
+    tau = 9.6 (half-way) kept: 85 %; orbits of M0(0) kept: 10 x (Landau), 3.5 x."""
+    out = hot_run
+    s = RelaxationSettings(**out["settings"])
+    grid = ActionGrid(out["jbar"], out["width"])
+    assert out["tau_flux"][-1] == out["tau"][-1]
+    f, M0 = out["f"][-1], out["M0"][-1]
+    assert abs(M0 - out["M0"][0]) > 1e-3
+    assert np.max(np.abs(f - out["f"][0])) > 0.2 * np.max(out["f"][0])
+    op = _Operator(grid, f, M0, s, _Dielectric(s)).op
+    fresh = op.face_flux(np.log(f)) / (4 * np.pi)
+    err = np.max(np.abs(out["flux"][-1] - fresh)) / np.max(np.abs(fresh))
+    assert err < 0.05, err
+    assert out["Sdot"][-1] == pytest.approx(op.entropy_production(np.log(f)), rel=0.05)
 
 
 def test_non_thermal_state_ends_at_the_thermal_state_of_its_energy(hot):
