@@ -11,7 +11,10 @@ rtol = thermal_tol = 1e-3) and the cost of one evaluation of the collision opera
 resonances and, for Lenard-Balescu, the dielectric tensor) and of the current it gives.
 `--study nmax` prints the initial entropy production and the relaxation time against n_max;
 `--study convergence` the largest change of M0(tau) when rtol is halved and when the grid is
-refined from 600 to 900 nodes.
+refined from 600 to 900 nodes, and tau_R, M0(tau) at 300/600/900 nodes and rtol/2;
+`--study separatrix` (issue 20) the initial rate dM0/dtau at tau = 0 on grids of 150-2400
+nodes, the continuum numerator 4 pi int G-bar dc0 per decade of |kappa - 1| (Fokker-Planck
+current of the analytic state) and the references of tests/test_relaxation_convergence.py.
 """
 
 from __future__ import annotations
@@ -26,13 +29,17 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from hmfdiff.kinetic.grid import action_grid, project_state  # noqa: E402
+from hmfdiff.kinetic.dielectric import DielectricTensor  # noqa: E402
+from hmfdiff.kinetic.flux import fokker_planck_current, jbar_current  # noqa: E402
+from hmfdiff.kinetic.grid import action_grid, project_state, solve_grid_M0  # noqa: E402
 from hmfdiff.kinetic.relaxation import (  # noqa: E402
     RelaxationSettings,
     _Operator,
     evolve,
 )
+from hmfdiff.meanfield import orbits  # noqa: E402
 from hmfdiff.meanfield.equilibrium import make_state  # noqa: E402
+from hmfdiff.meanfield.fourier import cos_coefficient  # noqa: E402
 from hmfdiff.pipeline.kinetic_relaxation_layout import relaxation_times  # noqa: E402
 
 CASES = {
@@ -99,9 +106,103 @@ def max_M0_change(a, b):
     return float(np.max(np.abs(Ma - Mb)))
 
 
+def grid_initial_rate(case, equation, n_nodes):
+    """dM0/dtau at tau = 0 of the grid: sum_i c0_i dm_i/dtau / (1 - dF/dM0), and its parts."""
+    state = make_state(CASES[case][0])
+    s = settings(case, equation, n_nodes=n_nodes)
+    grid = action_grid(state.M0, n_nodes, s.kappa_max, state, s.feature_share, s.separatrix_share)
+    f, M0 = project_state(state, grid)
+    op = _Operator(grid, f, M0, s).op
+
+    def c0(M):
+        return cos_coefficient(0, orbits.kappa_from_rescaled_action(grid.jbar, M))
+
+    num = float(np.dot(op.rate(np.log(f)), c0(M0)))
+    eps = 1e-4  # response of the grid's M0 to f -> f (1 +- eps c0): 1 - dF/dM0 from it
+    dM = solve_grid_M0(grid, f * (1 + eps * c0(M0)), M0) - solve_grid_M0(
+        grid, f * (1 - eps * c0(M0)), M0
+    )
+    m = grid.volume * f
+    var = np.dot(m, c0(M0) ** 2) / m.sum() - M0**2
+    denom = 2 * eps * var / dM
+    return num, 1.0 - denom, num / denom
+
+
+def _gauss_legendre(edges, order=8):
+    x, w = np.polynomial.legendre.leggauss(order)
+    a, b = edges[:-1, None], edges[1:, None]
+    return (0.5 * (a + b) + 0.5 * (b - a) * x).ravel(), (0.5 * (b - a) * w).ravel()
+
+
+def _dc0_dkappa(k):
+    h = np.where(np.abs(k - 1) < 0.1, 1e-4 * np.abs(k - 1), 1e-5)
+    return (cos_coefficient(0, k + h) - cos_coefficient(0, k - h)) / (2 * h)
+
+
+def continuum_moment(case, collective, lo, hi, side, n_panel=40):
+    """4 pi int G-bar dc0/dkappa dkappa over lo < |kappa - 1| < hi on one side (-1 librating,
+    +1 rotating): Fokker-Planck current of the analytic state, Gauss-Legendre on panels
+    geometric in |kappa - 1|."""
+    state = make_state(CASES[case][0])
+    eps = DielectricTensor(state, l_max=6) if collective else None
+    x, w = _gauss_legendre(np.geomspace(lo, hi, n_panel + 1))
+    k = 1.0 + side * x
+    G = jbar_current(fokker_planck_current(state, k, collective=collective, eps=eps), k)
+    return float(4 * np.pi * np.sum(w * G * _dc0_dkappa(k)))
+
+
+def clipped_moment(case, collective, delta, n_panel=150, order=8):
+    """The reference of the clipped-c0 current moment (tests/test_relaxation_convergence.py)."""
+    from scipy.optimize import brentq
+
+    state = make_state(CASES[case][0])
+    kmax = CASES[case][1]
+    clip = cos_coefficient(0, 1.0 + delta)
+    klib = brentq(lambda k: cos_coefficient(0, k) - clip, 0.5, 1 - 1e-15)
+    lib = np.concatenate(
+        (np.linspace(0, 0.9, n_panel), 1 - np.geomspace(0.1, 1 - klib, n_panel // 3)[1:])
+    )
+    rot = np.concatenate(
+        (1 + np.geomspace(delta, 0.1, n_panel // 3), np.linspace(1.1, kmax, n_panel)[1:])
+    )
+    k1, w1 = _gauss_legendre(lib, order)
+    k2, w2 = _gauss_legendre(rot, order)
+    k, w = np.concatenate((k1, k2)), np.concatenate((w1, w2))
+    eps = DielectricTensor(state, l_max=6) if collective else None
+    G = jbar_current(fokker_planck_current(state, k, collective=collective, eps=eps), k)
+    return float(4 * np.pi * np.sum(w * G * _dc0_dkappa(k)))
+
+
+def separatrix_study(case, equations):
+    for eq in equations:
+        for n in (150, 300, 600, 1200, 2400):
+            num, dF, rate = grid_initial_rate(case, eq, n)
+            print(
+                f"{case} {eq} {n} nodes: N = {num:.4e}, dF/dM0 = {dF:.5f}, dM0/dtau(0) = {rate:.4e}"
+            )
+    for eq in equations:
+        coll = eq == "lenard_balescu"
+        for side in (-1, 1):
+            parts = [
+                continuum_moment(case, coll, 10.0**-d, 10.0 ** (1 - d), side) for d in range(1, 13)
+            ]
+            txt = ", ".join(f"{p:.2e}" for p in parts)
+            print(
+                f"{case} {eq} continuum N per decade of |kappa - 1| (1..0.1 down to "
+                f"1e-11..1e-12), side {side}: {txt}"
+            )
+    if case == "hot":
+        print(
+            f"clipped moment references: landau delta=0.03 {clipped_moment(case, False, 0.03):.5e}"
+        )
+        print(f"  lenard_balescu delta=1e-3 {clipped_moment(case, True, 1e-3):.5e}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--study", choices=["time", "nmax", "convergence"], default="time")
+    ap.add_argument(
+        "--study", choices=["time", "nmax", "convergence", "separatrix"], default="time"
+    )
     ap.add_argument("--case", choices=sorted(CASES), default="ch2")
     ap.add_argument("--equations", nargs="+", choices=EQUATIONS, default=list(EQUATIONS))
     args = ap.parse_args()
@@ -116,6 +217,8 @@ def main():
                 out, wall = run(args.case, eq, n_max=n_max)
                 head = f"{args.case} {eq} n_max={n_max}: Sdot0 = {out['Sdot'][0]:.4g}"
                 print(f"{head}; {describe(out, wall)}")
+    elif args.study == "separatrix":
+        separatrix_study(args.case, args.equations)
     else:
         for eq in args.equations:
             ref, wall = run(args.case, eq)
