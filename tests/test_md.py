@@ -333,44 +333,61 @@ def test_run_md_refuses_more_threads_than_cores(state):
 
 # ------------------------------------------------------------------ compiled-kernel cache
 _JOB = """
-import json, sys, time
-from pathlib import Path
+import json, sys
 from hmfdiff.dynamics.kernel_cache import cache_counts, use_kernel_cache
 use_kernel_cache(sys.argv[1])
-# start together: announce, then wait until the other job has announced too
-Path(sys.argv[2]).touch()
-deadline = time.monotonic() + 120
-while not Path(sys.argv[3]).exists():
-    assert time.monotonic() < deadline, "the other job never started"
-    time.sleep(0.01)
+# start together: announce on stdout, then block on stdin until the test releases both jobs
+print("ready", flush=True)
+assert sys.stdin.readline().strip() == "go", "the test never released this job"
 from hmfdiff.dynamics import md
 from hmfdiff.dynamics.settings import MDRun
 from hmfdiff.meanfield.equilibrium import ThermalState
-run = MDRun(dynamics=sys.argv[4], n_particles=500, n_test=10, dt=0.1, t_max=4.0,
+run = MDRun(dynamics=sys.argv[2], n_particles=500, n_test=10, dt=0.1, t_max=4.0,
             sample_every=0.5, max_lag=2.0, origin_every=0.5, n_blocks=1)
 res = md.run_md(ThermalState(M0=0.7), run, seed=1, progress=None)
 print(json.dumps({**cache_counts(), "sum": float(res.sums.sum())}))
 """
+#: a safety net for a broken job, not a timing assumption: the waits below are blocking reads
+JOB_TIMEOUT = 600
 
 
 def _two_jobs_together(tmp_path, shared, dynamics):
+    """Start two MD jobs, wait (blocking reads of their stdout) until both have set up the
+    kernel cache and said 'ready', then release both at once through their stdin."""
     import json
+    import select
     import subprocess
     import sys
 
     script = tmp_path / "job.py"
     script.write_text(_JOB)
-    a, b = tmp_path / "a.started", tmp_path / "b.started"
     procs = [
         subprocess.Popen(
-            [sys.executable, str(script), str(shared), str(me), str(other), dynamics],
+            [sys.executable, str(script), str(shared), dynamics],
+            stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             text=True,
         )
-        for me, other in ((a, b), (b, a))
+        for _ in range(2)
     ]
-    outs = [p.communicate(timeout=600) for p in procs]
+    try:
+        for p in procs:
+            ready, _, _ = select.select([p.stdout], [], [], JOB_TIMEOUT)
+            line = p.stdout.readline() if ready else ""
+            if line.strip() != "ready":
+                for q in procs:
+                    q.kill()
+                pytest.fail(f"a job never said ready ({line!r}): {p.communicate()[1][-3000:]}")
+        for p in procs:
+            p.stdin.write("go\n")
+            p.stdin.flush()
+        outs = [p.communicate(timeout=JOB_TIMEOUT) for p in procs]
+    finally:
+        for p in procs:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
     for p, (_out, err) in zip(procs, outs, strict=True):
         assert p.returncode == 0, err[-3000:]
     return [json.loads(out.strip().splitlines()[-1]) for out, _ in outs]
