@@ -36,6 +36,32 @@ def job_counts(output):
     return {line.split()[0]: int(line.split()[1]) for line in m.group(1).strip().splitlines()}
 
 
+def md_against_theory_medians(rows):
+    """{(dynamics, column): median} of the MD's N D over the theory's (`ratio`: asymptotic,
+    `ratio_windowed`: fitted over the MD's own lags), over the flag-0 bins of both MD cases.
+
+    The smoke MD is toy-sized (N = 5000, 2 seeds, t <= 60): one bin's ratio scatters by tens
+    of % and the rotating bins (N D ~ 1e-4 ... 1e-7, below the MD's noise) by any factor, so
+    a bin-wise check would be noise; the median of 12 bins is robust to those.  Measured on
+    the smoke run of 0af361a: MD(full) 1.21 (asymptotic Lenard-Balescu) and 0.94 (windowed);
+    with the MD's or the theory's N D doubled 2.41 / 1.88, halved 0.60 / 0.47, with the
+    Lenard-Balescu dressing dropped (bare Landau values, 1.6-60 times larger in these bins)
+    0.58 -- each out of the band |median - 1| < 0.3 that the tests ask for.
+
+    MD(bath) is not checked: at the smoke config's 2 seeds its median is 0.69 against Landau
+    (the thermal case's two core bins at 0.20 and 0.40, a fluctuation of 2 seeds), so no band
+    that holds it also excludes a factor of two.  With md.seeds_bath: 10 the same run gave
+    1.07 (windowed 1.03; those two bins 0.49 +- 0.18 and 0.88 +- 0.19), which the same check
+    would hold; the smoke config was left as it is (16 more bath jobs per smoke run)."""
+    out = {}
+    for dyn in ("bath", "full"):
+        for col in ("ratio", "ratio_windowed"):
+            v = np.array([float(r[col]) for r in rows if r["dynamics"] == dyn and r["flag"] == "0"])
+            v = v[np.isfinite(v)]
+            out[dyn, col] = float(np.median(v)) if v.size else np.nan
+    return out
+
+
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory):
     d = tmp_path_factory.mktemp("pipeline")
@@ -103,8 +129,14 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
         "ratio_windowed",
         "z_windowed",
         "ND_spectrum",
+        "n_seeds",
     ]
     assert {r["dynamics"] for r in rows} == {"bath", "full"}
+    # MD against theory, end to end: a factor of two anywhere (MD, theory, a lost dressing)
+    # moves these medians out of the band; see md_against_theory_medians
+    medians = md_against_theory_medians(rows)
+    assert abs(medians["full", "ratio"] - 1) < 0.3, medians
+    assert abs(medians["full", "ratio_windowed"] - 1) < 0.3, medians
     figures = [name for name in FIGURES if name in smoke["figures"]]
     assert len(figures) == len(FIGURES)  # the smoke config draws every figure of the registry
     for name in figures:
