@@ -2,17 +2,22 @@
 and a figure job in turn, restart with the README's recipe each time, and check that the final
 outputs equal those of an unkilled run, with no temporary file left behind.
 
-Deterministic: every kill waits for an observable event, never for a fixed time.  The jobs are
-stopped at a known point by the HMFDIFF_TEST_HOLD hook of hmfdiff.pipeline.io (a write
-matching a pattern announces itself on stderr and waits to be killed), and the MD kill waits
-for the line the MD job logs as it starts integrating.  Each test builds what it needs in its
-own temporary copy of the workflow, with a tiny configuration derived from config/smoke.yaml.
+Deterministic: every kill waits for an observable event, never for a fixed time, and no wait
+polls.  The run's console (Snakemake's and its jobs' stdout and stderr) is a pipe that the test
+reads line by line, blocking: the jobs are stopped at a known point by the HMFDIFF_TEST_HOLD
+hook of hmfdiff.pipeline.io (a write matching a pattern announces itself on stderr and waits
+to be killed), and the MD kill waits for the line the MD job logs as it starts integrating.
+After the SIGKILL, the end of the pipe (every process of the run that held it has exited) and
+a pidfd per process left with the run's token are waited on.  Each test builds what it needs
+in its own temporary copy of the workflow, with a tiny configuration derived from
+config/smoke.yaml.
 """
 
 from __future__ import annotations
 
 import os
 import re
+import select
 import shutil
 import signal
 import subprocess
@@ -127,51 +132,76 @@ def _processes_with(token):
     return pids
 
 
-def _wait_for(condition, proc, console, what):
-    """Poll until condition() holds; fail at once if `proc` exits first."""
-    deadline = time.monotonic() + EVENT_TIMEOUT
-    while time.monotonic() < deadline:
-        if condition():
-            return
-        if proc.poll() is not None:
-            pytest.fail(f"snakemake exited before {what}:\n{console.read_text()[-4000:]}")
-        time.sleep(0.02)
-    pytest.fail(f"no sign of {what} after {EVENT_TIMEOUT} s:\n{console.read_text()[-4000:]}")
+def _read_console(fd, deadline, text=""):
+    """The next chunk written to the console pipe `fd` (a blocking wait, bounded by the
+    safety-net `deadline`), appended to `text`; None at the end of the pipe."""
+    ready, _, _ = select.select([fd], [], [], max(0.0, deadline - time.monotonic()))
+    if not ready:
+        pytest.fail(f"the console stayed silent until the safety net:\n{text[-4000:]}")
+    chunk = os.read(fd, 1 << 16)
+    return text + chunk.decode(errors="replace") if chunk else None
+
+
+def _wait_for_exit(pids, deadline):
+    """Wait for each process to exit (a pidfd becomes readable when its process ends)."""
+    for pid in pids:
+        try:
+            fd = os.pidfd_open(pid)
+        except ProcessLookupError:
+            continue  # already gone
+        try:
+            ready, _, _ = select.select([fd], [], [], max(0.0, deadline - time.monotonic()))
+            assert ready, f"process {pid} of the killed run survived SIGKILL"
+        finally:
+            os.close(fd)
 
 
 def _run_until_killed(cmd, cwd, hold, event, what):
-    """Start `cmd` in its own process group with HMFDIFF_TEST_HOLD=hold, wait until event(console
-    text) holds, SIGKILL the whole group and wait until every process of the run is gone."""
+    """Start `cmd` in its own process group with HMFDIFF_TEST_HOLD=hold, its console a pipe;
+    read the console until event(text) holds, SIGKILL the whole group and wait until every
+    process of the run is gone.  Returns the console text."""
     token = f"hmfdiff-kill-test-{uuid.uuid4().hex}"
     env = dict(os.environ, HMFDIFF_TEST_HOLD=hold, HMFDIFF_KILL_TEST_TOKEN=token)
-    console = cwd / f"console-{token}.txt"
-    with open(console, "w") as out:
-        proc = subprocess.Popen(
-            cmd, cwd=cwd, stdout=out, stderr=subprocess.STDOUT, env=env, start_new_session=True
-        )
-        try:
-            _wait_for(lambda: event(console.read_text()), proc, console, what)
-        finally:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
-    deadline = time.monotonic() + EVENT_TIMEOUT
-    while _processes_with(token):
-        assert time.monotonic() < deadline, "processes of the killed run survived SIGKILL"
-        time.sleep(0.02)
-    console.unlink()
+    deadline = time.monotonic() + EVENT_TIMEOUT  # a safety net, not a timing assumption
+    proc = subprocess.Popen(
+        cmd,
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        env=env,
+        start_new_session=True,
+    )
+    fd = proc.stdout.fileno()
+    text = ""
+    try:
+        while not event(text):
+            more = _read_console(fd, deadline, text)
+            if more is None:
+                pytest.fail(f"snakemake exited before {what}:\n{text[-4000:]}")
+            text = more
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        # the end of the pipe: every process that inherited the console has exited
+        while (more := _read_console(fd, deadline, text)) is not None:
+            text = more
+        proc.stdout.close()
+    _wait_for_exit(_processes_with(token), deadline)
+    assert not _processes_with(token), "processes of the killed run survived SIGKILL"
+    return text
 
 
 def _restart(cwd, results, hold=None, event=None, what=None):
     """The README's recipe: `snakemake --unlock`, then the same command with --rerun-incomplete
-    (killed again at the next point when `hold` is given)."""
+    (killed again at the next point when `hold` is given; returns that run's console)."""
     r = _run(UNLOCK, cwd)
     assert r.returncode == 0, r.stderr[-3000:]
     cmd = _command(results, RESTART_FLAG)
     if hold is None:
         r = _run(cmd, cwd)
         assert r.returncode == 0, r.stderr[-4000:]
-    else:
-        _run_until_killed(cmd, cwd, hold, event, what)
+        return r.stdout + r.stderr
+    return _run_until_killed(cmd, cwd, hold, event, what)
 
 
 def _held(pattern):
@@ -225,22 +255,19 @@ def test_kill_during_each_step_then_restart_matches_unkilled_run(reference, tmp_
     r = _run([*_command(results), "-n"], d)  # why the recipe needs --rerun-incomplete
     assert r.returncode != 0 and "incomplete" in (r.stdout + r.stderr).lower()
 
-    # 2. MD: killed while integrating (the line its log writes, in this run, as it starts), both
-    #    seeds held before their rename so that neither can finish first
-    started = time.time()
-
-    def md_integrating():
-        logs = [p for p in d.rglob("seed*.log") if "md" in p.parts and ".snakemake" not in p.parts]
-        return any(p.stat().st_mtime >= started and "threads =" in p.read_text() for p in logs)
-
-    _restart(
+    # 2. MD: killed while integrating: the line its logger writes as it starts, read from this
+    #    run's console (the logger writes stderr before the log file, which the kill may beat;
+    #    a log file may also hold the line from run 1), both seeds held before their rename so
+    #    that neither can finish
+    integrating = re.compile(rf"md: case {re.escape(CASE)}, full, seed \d+: .*threads = \d+")
+    console = _restart(
         d,
         results,
         "before:*/md/*/seed*.nc",
-        lambda text: md_integrating() or "hold before rename" in text,
+        integrating.search,
         "an MD job integrating",
     )
-    assert md_integrating(), "the MD log has no line announcing the integration"
+    assert integrating.search(console), "the MD job announced no integration"
     assert not list((out / "md").rglob("seed*.nc")), "a killed MD job left an output"
 
     # 3. fit: killed with its output written to the temporary file, not yet renamed
