@@ -11,10 +11,30 @@ rtol = thermal_tol = 1e-3) and the cost of one evaluation of the collision opera
 resonances and, for Lenard-Balescu, the dielectric tensor) and of the current it gives.
 `--study nmax` prints the initial entropy production and the relaxation time against n_max;
 `--study convergence` the largest change of M0(tau) when rtol is halved and when the grid is
-refined from 600 to 900 nodes, and tau_R, M0(tau) at 300/600/900 nodes and rtol/2;
+refined from 600 to 900 nodes or coarsened to 300 (each line gives tau_R);
 `--study separatrix` (issue 20) the initial rate dM0/dtau at tau = 0 on grids of 150-2400
 nodes, the continuum numerator 4 pi int G-bar dc0 per decade of |kappa - 1| (Fokker-Planck
 current of the analytic state) and the references of tests/test_relaxation_convergence.py.
+
+Measured 2026-11-25 (issue 20; a 2-core machine under load ~14, so wall times are not costs):
+
+* rtol: ch2* Lenard-Balescu at 600 nodes, rtol 1e-3 -> 5e-4: max |dM0(tau)| = 1.0e-5,
+  tau_R 1846 -> 1865 (+1.0 %); the initial-rate time (S_eq - S0)/Sdot0 = 193.7-193.8 at 300-900.
+* n_nodes: ch2* Lenard-Balescu tau_R (entropy deficit / e, thermal_tol 1e-3) = 1383 (300
+  nodes), 1983 (900) with the separatrix a face of the grid; 1265 (300), 1846 (600) before.
+  M0(tau) moves by 2.8e-4 from 300 to 600 nodes (M0 falls by 1.5e-3 in all).  Not converged:
+  the default of 600 nodes has an error of tens of per cent in tau_R, not 2-3 %.
+* why (--study separatrix): dM0/dtau(0) = N / (1 - dF/dM0).  1 - dF/dM0 converges (ch2*
+  0.87264, hot halo 0.90483 by quadrature; grid within 6e-4 at 150 nodes).  N does not: ch2*
+  Landau N = 5.48e-4, 5.43e-4, 4.36e-4, 3.14e-4, 2.58e-4 at 150/300/600/1200/2400 nodes,
+  Lenard-Balescu 4.90e-5, 5.00e-5, 4.94e-5, 4.71e-5, 2.68e-5.  The continuum N (Landau) per
+  decade of |kappa - 1| from 0.1 down: librating -7e-6, -4.9e-5, -2.9e-4, -3.5e-5, -6e-6,
+  -8.0e-5, -2.2e-5, then < 5e-7; rotating 1.6e-4, 3.1e-4, 1.3e-5, 8.8e-5, 9.5e-5, 6e-6, 4.2e-5,
+  3.5e-5, 6.5e-6, 2.2e-5, 1.6e-5 (down to 1e-12, and on): rotating orbits within 1e-12 of the
+  separatrix still resonate with the core through their harmonics n = 4-6 (n Omega = 2
+  Omega', Omega ~ 1/ln(1/|kappa - 1|)), so the band carries the rate down to |kappa - 1| ~
+  1e-25, below what kappa in double precision resolves.  The grid gives the continuum N cut
+  at its innermost nodes (5.44e-4 for |kappa - 1| > 1e-3, 2.64e-4 for > 1e-4).
 """
 
 from __future__ import annotations
@@ -227,9 +247,10 @@ def main():
             print(
                 f"  rtol/2: max |dM0(tau)| = {max_M0_change(ref, half):.2e}; {describe(half, wall)}"
             )
-            fine, wall = run(args.case, eq, n_nodes=900)
-            change = max_M0_change(ref, fine)
-            print(f"  900 nodes: max |dM0(tau)| = {change:.2e}; {describe(fine, wall)}")
+            for n in (300, 900):
+                other, wall = run(args.case, eq, n_nodes=n)
+                change = max_M0_change(ref, other)
+                print(f"  {n} nodes: max |dM0(tau)| = {change:.2e}; {describe(other, wall)}")
 
 
 if __name__ == "__main__":
