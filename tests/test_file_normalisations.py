@@ -109,6 +109,17 @@ def test_stored_entropy_production(relaxation_file):
     assert float(ds["tau_relax_initial_rate"]) == pytest.approx(tau_rate, rel=1e-8)
 
 
+def test_stored_thermal_distance_is_the_largest_deviation(relaxation_file):
+    """`thermal_distance_max` is max_J |f - f_eq| / max f_eq of the stored f against the stored
+    thermal end point `f_thermal`, at every stored time (rounding only; a sum over the grid,
+    a normalisation by max f instead of max f_eq, or another reference is off by >= 5 %)."""
+    ds, _ = relaxation_file
+    f, f_eq = ds["f"].values, ds["f_thermal"].values
+    expected = np.max(np.abs(f - f_eq), axis=1) / np.max(f_eq)
+    np.testing.assert_allclose(ds["thermal_distance_max"].values, expected, rtol=1e-10)
+    assert "max_J |f - f_eq| / max f_eq" in ds["thermal_distance_max"].attrs["long_name"]
+
+
 def test_stored_magnetisation_follows_the_stored_flux(relaxation_file):
     """M0 = sum_i m_i <cos theta>(J-bar_i; M0) at fixed J-bar, so
     dM0/dtau (1 - sum_i m_i d<cos theta>_i/dM0) = sum_faces 4 pi G-bar (c_{i+1} - c_i),

@@ -331,9 +331,11 @@ PHYSICAL_RANGES = {
         **dict.fromkeys(["f_jbar", "time", "tau", "realisation", "jbar", "jbar_edges"], NONNEG),
     },
     r"relaxation/[^/]+\.nc": {
-        **dict.fromkeys(["f", "f_thermal", "f_thermal_analytic", "mass", "distance"], NONNEG),
+        **dict.fromkeys(
+            ["f", "f_thermal", "f_thermal_analytic", "mass", "thermal_distance_max"], NONNEG
+        ),
         **dict.fromkeys(["Sdot", "cell_width", "beta_thermal", "beta_thermal_grid"], NONNEG),
-        **dict.fromkeys(["tau_relax", "tau", "tau_flux", "Jbar", "Jbar_face"], NONNEG),
+        **dict.fromkeys(["tau_relax_fine", "tau", "tau_flux", "Jbar", "Jbar_face"], NONNEG),
         **dict.fromkeys(["M0", "M0_thermal", "M0_thermal_grid"], (0, 1)),
         "u": (-0.5, None),
     },

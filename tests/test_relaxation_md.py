@@ -122,13 +122,79 @@ def test_comparison_recovers_a_known_relaxation():
     times_tau = np.concatenate([[0.0], np.geomspace(0.01, 40.0, 40)])
     md = [_synthetic_ensemble(kin, n, 20, edges, times_tau, rng) for n in (500, 1000, 2000)]
     ds, rows, summary = compare_relaxation(md, {"lenard_balescu": kin_ds}, state, thermal)
-    tau_kin = summary["tau_relax_kinetic"]["lenard_balescu"]
+    tau_kin = summary["tau_relax_coarse"]["lenard_balescu"]
     assert np.isfinite(tau_kin)
     for n, t_r in summary["t_relax_md"].items():
         err = summary["t_relax_md_err"][n]
         assert abs(t_r / n - tau_kin) < max(4 * err / n, 0.05 * tau_kin)
     assert summary["exponent"] == pytest.approx(1.0, abs=max(4 * summary["exponent_err"], 0.05))
     # drawn from the evolution itself: the distance is the sampling noise at every time
-    ratio = ds["distance_lenard_balescu"].values / ds["distance_noise_floor"].values
+    ratio = ds["l1_distance_lenard_balescu"].values / ds["l1_distance_noise_floor"].values
     assert np.mean(ratio) < 1.3 and np.max(ratio) < 3.0
     assert len(rows) == 3 * times_tau.size
+
+
+def _snapshot_dataset():
+    """A comparison dataset made up here: 10 J-bar bins of width 0.3, largest N = 200 at five
+    times; the MD occupies bins 0-5 at every time, bin 6 only at the first time, bins 7-9
+    never, and bin 3 is empty at the last time; the thermal and kinetic fractions have tails
+    down to 1e-12 in the empty bins (what drew the old axis down to 1e-10)."""
+    edges = np.linspace(0.0, 3.0, 11)
+    tau = np.array([0.0, 0.1, 0.2, 0.4, 0.8])
+    P = np.zeros((2, tau.size, 10))
+    P[:, :, :6] = [0.3, 0.25, 0.2, 0.12, 0.08, 0.05]
+    P[:, 0, 6] = 0.02
+    P[:, -1, 3] = 0.0
+    tail = [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 1e-8, 1e-10, 1e-12]
+    return xr.Dataset(
+        {
+            "P_md": (("N", "tau", "jbar"), P),
+            "P_md_err": (("N", "tau", "jbar"), 0.1 * P),
+            "P_thermal": (("jbar",), np.array(tail)),
+            "P_lenard_balescu": (("tau", "jbar"), np.tile(tail, (tau.size, 1))),
+        },
+        coords={
+            "N": [100, 200],
+            "tau": tau,
+            "jbar": 0.5 * (edges[1:] + edges[:-1]),
+            "jbar_edges": (("jbar_edge",), edges),
+        },
+    )
+
+
+def test_fig12_snapshot_panel_draws_only_the_md_data():
+    """Figure 12(d): the J-bar axis ends at the last edge of a bin the MD occupies (2.1, not
+    3.0), the log axis's floor is set by the smallest MD density drawn (not by the 1e-12 tails
+    of the theory), no point or error bar is drawn in an empty bin, and the three snapshots
+    differ in marker and in lightness (luminance steps > 0.2 of a sequential colormap)."""
+    from hmfdiff.analysis.figures.relaxation_md_figures import _snapshot_panel
+    from hmfdiff.analysis.figures.style import plt
+
+    ds = _snapshot_dataset()
+    fig, ax = plt.subplots()
+    try:
+        _snapshot_panel(ax, ds)
+        vol = 4 * np.pi * 0.3
+        assert ax.get_xlim() == pytest.approx((0.0, 2.1))
+        P = ds["P_md"].values[-1]
+        lowest = P[P > 0].min() / vol
+        lo, hi = ax.get_ylim()
+        assert 0.1 * lowest < lo < lowest
+        assert hi > 0.3 / vol
+        snaps = [0, 2, 4]  # first, middle, last time
+        bars = [c for c in ax.containers if type(c).__name__ == "ErrorbarContainer"]
+        assert len(bars) == 3
+        markers, lum = [], []
+        for bar, j in zip(bars, snaps, strict=True):
+            line = bar.lines[0]
+            x, y = line.get_xdata(), line.get_ydata()
+            occupied = ds["jbar"].values[P[j] > 0]
+            np.testing.assert_allclose(x, occupied)
+            np.testing.assert_allclose(y, P[j][P[j] > 0] / vol)
+            markers.append(line.get_marker())
+            r, g, b = plt.matplotlib.colors.to_rgb(line.get_color())
+            lum.append(0.2126 * r + 0.7152 * g + 0.0722 * b)
+        assert len(set(markers)) == 3
+        assert np.min(np.abs(np.diff(np.sort(lum)))) > 0.2
+    finally:
+        plt.close(fig)

@@ -33,7 +33,7 @@ def progress(d):
         d["M0"],
         d["S"],
         d["u"],
-        d["distance"],
+        d["thermal_distance_max"],
     )
 
 
@@ -57,6 +57,6 @@ ds = kinetic_relaxation_dataset(
     stability=report,
     fp0=fp0,
 )
-log.info("tau_relax (entropy deficit / e) = %.4g", float(ds["tau_relax"]))
+log.info("tau_relax_fine (fine-grained entropy deficit / e) = %.4g", float(ds["tau_relax_fine"]))
 write_dataset(ds, sm.output[0], {"relaxation": run, "check_stability": check}, case=case)
 log.info("wrote %s", sm.output[0])

@@ -45,11 +45,11 @@ COMPARISON_COLUMNS = [
     "S_md_err",
     "S_lenard_balescu",
     "S_landau",
-    "distance_lenard_balescu",
-    "distance_lenard_balescu_err",
-    "distance_landau",
-    "distance_landau_err",
-    "distance_noise_floor",
+    "l1_distance_lenard_balescu",
+    "l1_distance_lenard_balescu_err",
+    "l1_distance_landau",
+    "l1_distance_landau_err",
+    "l1_distance_noise_floor",
 ]
 
 
@@ -101,7 +101,7 @@ def compare_relaxation(md, kinetic, state, thermal):
             "P": Pk,
             "M0": ds["M0"].values,
             "S": Sk,
-            "tau_relax": relaxation_time(tau_k, S_eq - Sk),
+            "tau_relax_coarse": relaxation_time(tau_k, S_eq - Sk),
         }
     rows, per_n = [], []
     for d in md:
@@ -135,13 +135,13 @@ def compare_relaxation(md, kinetic, state, thermal):
                 "M_md_err": M_err[j],
                 "S_md": S_md[j],
                 "S_md_err": S_err[j],
-                "distance_noise_floor": floor[j],
+                "l1_distance_noise_floor": floor[j],
             }
             for eq in ("lenard_balescu", "landau"):
                 row[f"M_{eq}"] = cols["M"][eq][j] if eq in kin else np.nan
                 row[f"S_{eq}"] = cols["S"][eq][j] if eq in kin else np.nan
-                row[f"distance_{eq}"] = cols["d"][eq][j] if eq in kin else np.nan
-                row[f"distance_{eq}_err"] = cols["d_err"][eq][j] if eq in kin else np.nan
+                row[f"l1_distance_{eq}"] = cols["d"][eq][j] if eq in kin else np.nan
+                row[f"l1_distance_{eq}_err"] = cols["d_err"][eq][j] if eq in kin else np.nan
             rows.append(row)
         per_n.append(
             dict(
@@ -156,6 +156,7 @@ def compare_relaxation(md, kinetic, state, thermal):
                 M_err=M_err,
                 t_relax=float(t_relax),
                 t_relax_err=float(t_relax_err),
+                n_groups=int(G.shape[0]),
                 cols=cols,
                 floor=floor,
             )
@@ -174,9 +175,10 @@ def compare_relaxation(md, kinetic, state, thermal):
         "exponent": alpha,
         "exponent_err": alpha_err,
         "prefactor": amp,
-        "tau_relax_kinetic": {eq: k["tau_relax"] for eq, k in kin.items()},
+        "tau_relax_coarse": {eq: k["tau_relax_coarse"] for eq, k in kin.items()},
         "t_relax_md": dict(zip(ns.astype(int).tolist(), tr.tolist(), strict=True)),
         "t_relax_md_err": dict(zip(ns.astype(int).tolist(), tr_err.tolist(), strict=True)),
+        "jackknife_groups": {p["n"]: p["n_groups"] for p in per_n},
     }
     ds = _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary)
     return ds, rows, summary
@@ -237,10 +239,14 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
             ("N",),
             [p["t_relax"] for p in per_n],
             "time",
-            "MD relaxation time: coarse-grained entropy deficit fallen by e (HMF time)",
+            "MD relaxation time t_R in HMF time t (not t/N): the deficit S_eq - S of the "
+            "coarse-grained histogram entropy fallen by a factor e",
         ),
         "t_relax_md_err": variable(
-            ("N",), [p["t_relax_err"] for p in per_n], "time", "jackknife error of t_relax_md"
+            ("N",),
+            [p["t_relax_err"] for p in per_n],
+            "time",
+            f"jackknife error of t_relax_md over {N_GROUPS} groups of realisations",
         ),
         "S_thermal": variable(
             (),
@@ -265,25 +271,28 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
             "1",
             f"fraction per J-bar bin of the {eq} evolution",
         )
-        data[f"tau_relax_{eq}"] = variable(
+        data[f"tau_relax_coarse_{eq}"] = variable(
             (),
-            k["tau_relax"],
+            k["tau_relax_coarse"],
             "time / N",
-            f"{eq} relaxation time (coarse-grained entropy deficit / e), in tau = t/N",
+            f"coarse-grained relaxation time of the {eq} evolution, in tau = t/N: the deficit "
+            "S_eq - S of the histogram entropy on the MD's J-bar bins fallen by a factor e (not "
+            "the fine-grained tau_relax_fine of results/relaxation)",
         )
-        data[f"distance_{eq}"] = variable(
+        data[f"l1_distance_{eq}"] = variable(
             ("N", "tau"),
             np.stack([np.interp(tau, p["tau"], p["cols"]["d"][eq]) for p in per_n]),
             "1",
-            f"sum_b |P_md - P_{eq}| at matched t/N",
+            f"L1 distance sum_b |P_md - P_{eq}| of the fractions per J-bar bin at matched t/N "
+            "(0 to 2)",
         )
-        data[f"distance_{eq}_err"] = variable(
+        data[f"l1_distance_{eq}_err"] = variable(
             ("N", "tau"),
             np.stack([np.interp(tau, p["tau"], p["cols"]["d_err"][eq]) for p in per_n]),
             "1",
-            "jackknife error of the distance",
+            f"jackknife error of l1_distance_{eq}",
         )
-    data["distance_noise_floor"] = variable(
+    data["l1_distance_noise_floor"] = variable(
         ("N", "tau"),
         np.stack([np.interp(tau, p["tau"], p["floor"]) for p in per_n]),
         "1",
@@ -314,15 +323,28 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
 
 
 def summary_lines(summary):
-    """Human-readable lines of a comparison summary."""
-    out = [f"case {summary['case']}: coarse-grained thermal S = {summary['S_eq_coarse']:.5f}"]
-    for eq, tau in summary["tau_relax_kinetic"].items():
-        out.append(f"  {eq}: tau_R = {tau:.4g} (t_R = tau_R N)")
+    """Human-readable lines of a comparison summary, opening with what t_R, its error and
+    tau_R^coarse are."""
+    groups = summary.get("jackknife_groups", {})
+    g = sorted(set(groups.values())) or [N_GROUPS]
+    out = [
+        f"case {summary['case']}: coarse-grained thermal S_eq = {summary['S_eq_coarse']:.5f} "
+        "(histogram entropy -sum_b P_b ln(P_b / (4 pi dJbar_b)) on the MD's J-bar bins)",
+        "  t_R: MD relaxation time in HMF time t (not t/N), the first t at which the "
+        "coarse-grained entropy deficit S_eq - S(t) has fallen to 1/e of its value at t = 0 "
+        "(linear interpolation between samples); +- its jackknife standard error over "
+        f"{'/'.join(map(str, g))} groups of realisations (one group left out at a time)",
+        "  tau_R^coarse: the same definition on the kinetic f binned on the same J-bar bins, in "
+        "tau = t/N (kinetic prediction t_R = tau_R^coarse N; not the fine-grained "
+        "tau_relax_fine of results/relaxation)",
+    ]
+    for eq, tau in summary["tau_relax_coarse"].items():
+        out.append(f"  {eq}: tau_R^coarse = {tau:.4g}")
     for n, t in summary["t_relax_md"].items():
         err = summary["t_relax_md_err"][n]
-        ratio = {eq: t / (tau * n) for eq, tau in summary["tau_relax_kinetic"].items()}
-        rs = ", ".join(f"t_R/(tau_R N) = {r:.3f} ({eq})" for eq, r in ratio.items())
-        out.append(f"  MD N = {n}: t_R = {t:.4g} +- {err:.2g}, tau = t_R/N = {t / n:.4g}; {rs}")
+        ratio = {eq: t / (tau * n) for eq, tau in summary["tau_relax_coarse"].items()}
+        rs = ", ".join(f"t_R/(tau_R^coarse N) = {r:.3f} ({eq})" for eq, r in ratio.items())
+        out.append(f"  MD N = {n}: t_R = {t:.4g} +- {err:.2g}, t_R/N = {t / n:.4g}; {rs}")
     out.append(
         f"  exponent of t_R = A N^alpha: alpha = {summary['exponent']:.3f} +- "
         f"{summary['exponent_err']:.3f} (kinetic theory at order 1/N: alpha = 1)"

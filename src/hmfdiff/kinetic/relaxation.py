@@ -215,12 +215,13 @@ def evolve(state, settings, progress=None, operator=None):
     Each step uses the orbits of the predicted mid-step magnetisation
     M0 + (dM0/dtau) dtau/2 (from the previous step), which makes the energy error of the M0
     update third order in its change per step.  progress(dict) is called after every accepted
-    step with tau, M0, S, u, distance.
+    step with tau, M0, S, u, thermal_distance_max (max |f - f_eq| / max f_eq).
 
     Returns a dict: per accepted step 'tau', 'f' (T, N), 'M0', 'u', 'S', 'mass', 'beta_fit',
-    'distance'; at `settings.flux_times` (and the end) 'tau_flux', 'flux' (T', N-1) (the current
-    G-bar through each face) and 'Sdot'; the grid ('jbar', 'width', 'jbar_face'); the thermal
-    end point ('f_eq', 'M0_eq', 'beta_eq', 'S_eq'); the settings, step counts and wall time.
+    'distance' (max |f - f_eq| / max f_eq); at `settings.flux_times` (and the end) 'tau_flux',
+    'flux' (T', N-1) (the current G-bar through each face) and 'Sdot'; the grid ('jbar',
+    'width', 'jbar_face'); the thermal end point ('f_eq', 'M0_eq', 'beta_eq', 'S_eq'); the
+    settings, step counts and wall time.
     """
     s = settings
     t0 = time.perf_counter()
@@ -246,7 +247,15 @@ def evolve(state, settings, progress=None, operator=None):
         dist = float(np.max(np.abs(f - f_eq)) / np.max(f_eq))
         hist.distance.append(dist)
         if progress is not None:
-            progress({"tau": tau, "M0": M0, "S": hist.S[-1], "u": hist.u[-1], "distance": dist})
+            progress(
+                {
+                    "tau": tau,
+                    "M0": M0,
+                    "S": hist.S[-1],
+                    "u": hist.u[-1],
+                    "thermal_distance_max": dist,
+                }
+            )
         return dist
 
     dielectric = _Dielectric(s)

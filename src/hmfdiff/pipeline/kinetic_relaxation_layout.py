@@ -3,7 +3,9 @@ Lenard-Balescu equation (`kinetic.relaxation.evolve`).
 
 Data contract (read by independent checks): coordinate `tau` (= t/N); variables `M0(tau)`,
 `u(tau)` (energy per particle, kinetic plus potential, u = 1/(2 beta) - M0^2/2 for a thermal
-state), `S(tau)`, `mass(tau)`; `f(tau, Jbar)`; the current `flux(tau_flux, Jbar_face)` at the
+state), `S(tau)` (fine-grained entropy -int f ln f), `mass(tau)`; `thermal_distance_max(tau)` =
+max |f - f_eq| / max f_eq; `f(tau, Jbar)`; `tau_relax_fine` (e-folding of the fine-grained
+entropy deficit); the current `flux(tau_flux, Jbar_face)` at the
 chosen times (tau = 0 first); attributes `case`, `equation` and every numerical setting.
 """
 
@@ -23,8 +25,9 @@ TAU_UNITS = "rescaled time tau = t/N (HMF time units / N)"
 
 
 def relaxation_times(out):
-    """Relaxation times of an evolution: the time at which the entropy deficit S_eq - S has
-    fallen by a factor e, and the initial-rate estimate (S_eq - S(0)) / (dS/dtau)(0)."""
+    """Relaxation times of an evolution: the time at which the fine-grained entropy deficit
+    S_eq - S has fallen by a factor e (`tau_relax_fine`), and the initial-rate estimate
+    (S_eq - S(0)) / (dS/dtau)(0)."""
     tau, S, S_eq = out["tau"], out["S"], out["S_eq"]
     deficit = (S_eq - S) / (S_eq - S[0])
     below = np.flatnonzero(deficit <= np.exp(-1.0))
@@ -65,11 +68,12 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
         ),
         "S": variable(T, out["S"], "1", "entropy S = -int f ln f dtheta dp"),
         "mass": variable(T, out["mass"], "1", "int f dtheta dp", valid=NONNEGATIVE),
-        "distance": variable(
+        "thermal_distance_max": variable(
             T,
             out["distance"],
             "1",
-            "max |f - f_eq| / max f_eq, f_eq the thermal state of u(0)",
+            "largest deviation from equilibrium max_J |f - f_eq| / max f_eq on the grid, f_eq "
+            "the thermal state of u(0) (not the sum_b |dP| of relaxation_comparison)",
             valid=NONNEGATIVE,
         ),
         "beta_fit": variable(T, out["beta_fit"], "1", "beta of a fit ln f = a - beta h"),
@@ -115,15 +119,20 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
         ),
         "beta_thermal_grid": variable((), out["beta_eq"], "1", "beta of it", valid=NONNEGATIVE),
         "S_thermal_grid": variable((), out["S_eq"], "1", "entropy of it"),
-        "tau_relax": variable(
+        "tau_relax_fine": variable(
             (),
             tau_e,
             TAU_UNITS,
-            "time at which the entropy deficit S_eq - S fell by a factor e",
+            "fine-grained relaxation time: tau at which the deficit S_eq - S of the fine-grained "
+            "entropy S = -int f ln f dtheta dp (on the kinetic grid) fell by a factor e (not the "
+            "coarse-grained tau_relax_coarse_* of relaxation_comparison)",
             valid=NONNEGATIVE,
         ),
         "tau_relax_initial_rate": variable(
-            (), tau_rate, TAU_UNITS, "(S_eq - S(0)) / (dS/dtau)(0), the initial-rate estimate"
+            (),
+            tau_rate,
+            TAU_UNITS,
+            "(S_eq - S(0)) / (dS/dtau)(0) of the fine-grained entropy, the initial-rate estimate",
         ),
     }
     if fp0 is not None:

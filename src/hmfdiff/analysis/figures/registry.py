@@ -275,7 +275,10 @@ _FIGURE_LIST = (
         "conservation form, the paper's Conclusions), with M0 solved self-consistently at every "
         "step: per case, f(J-bar) at several rescaled times tau = t/N under the Landau (bare) "
         "and Lenard-Balescu (dressed) equations against the thermal state of the same energy "
-        "(dotted), and M0(tau) and the entropy S(tau) for both equations.",
+        "(dotted), and M0(tau) and the fine-grained entropy S(tau) = -int f ln f for both "
+        "equations; the legend's tau_R^fine is the e-folding time of the fine-grained entropy "
+        "deficit S_eq - S on the kinetic grid (figure 13's tau_R^coarse is that of the "
+        "histogram entropy on the MD's J-bar bins, a different number).",
         _RELAX_CAT,
     ),
     Figure(
@@ -287,9 +290,10 @@ _FIGURE_LIST = (
         "independent realisations at several N) against the Lenard-Balescu and Landau "
         "evolutions (eq. hmflb) at matched rescaled time t/N: (a) mean |M| with its standard "
         "error, (b) coarse-grained entropy of the J-bar histogram (dotted: the thermal state of "
-        "the same energy), (c) distance sum_b |P_b(MD) - P_b(LB)| between the binned f with its "
-        "jackknife error and the distance expected from sampling noise alone (dotted), (d) "
-        "f(J-bar) snapshots of the largest N (points) and Lenard-Balescu (lines).",
+        "the same energy), (c) L1 distance sum_b |P_b(MD) - P_b(LB)| between the binned f with "
+        "its jackknife error and the distance expected from sampling noise alone (dotted), (d) "
+        "f(J-bar) snapshots of the largest N at three times (markers; empty bins not drawn, "
+        "J-bar range of the occupied bins) and Lenard-Balescu (lines).",
         _RELAX_CAT,
     ),
     Figure(
@@ -297,10 +301,12 @@ _FIGURE_LIST = (
         "fig13",
         fig13_relaxation_time,
         (Inputs("relaxation_comparison", "relaxation_comparison/{case}.nc"),),
-        "Fig. 13: relaxation time t_R of the N-body ensembles (coarse-grained entropy deficit "
-        "S_eq - S fallen by e) against N on log axes, with the fitted power law and its "
-        "exponent, and the kinetic predictions t_R = tau_R N of the Lenard-Balescu and Landau "
-        "equations (same definition on the same bins).",
+        "Fig. 13: relaxation time t_R (HMF time) of the N-body ensembles, the time at which the "
+        "coarse-grained entropy deficit S_eq - S of the J-bar histogram has fallen by e, with "
+        "its jackknife error over groups of realisations, against N on log axes, with the "
+        "fitted power law and its exponent, and the kinetic predictions t_R = tau_R^coarse N of "
+        "the Lenard-Balescu and Landau equations (same definition on the same bins; not the "
+        "fine-grained tau_R^fine of figure 11).",
         _RELAX_CAT,
     ),
     Figure(

@@ -70,8 +70,8 @@ def fig11_relaxation(inputs, pdf, png):
             label, ls = _STYLE[eq]
             tau = ds["tau"].values
             pos = tau > 0
-            tau_r = float(ds["tau_relax"])
-            lab = rf"{label} ($\tau_R={sci(tau_r, 3)}$)"
+            tau_r = float(ds["tau_relax_fine"])
+            lab = rf"{label} ($\tau_R^{{\rm fine}}={sci(tau_r, 3)}$)"
             ax_m.plot(tau[pos], ds["M0"].values[pos], "k", ls=ls, lw=1.2, label=lab)
             ax_s.plot(tau[pos], ds["S"].values[pos], "k", ls=ls, lw=1.2, label=label)
         first = next(iter(eqs.values()))

@@ -20,6 +20,58 @@ def _colours(n):
     return plt.cm.viridis(np.linspace(0.0, 0.85, max(n, 1)))
 
 
+def _snapshot_colours(n):
+    """n well-separated steps of a sequential colormap (early: dark, late: light)."""
+    return plt.cm.viridis(np.linspace(0.0, 0.8, max(n, 1)))
+
+
+_SNAPSHOT_MARKERS = ("o", "s", "^", "D", "v")
+
+
+def _snapshot_panel(ax, ds):
+    """f(J-bar) = P_b / (4 pi dJbar_b) of the largest N at three times (first, middle, last)
+    against Lenard-Balescu (lines) and the thermal state: only the bins where the MD has
+    particles are drawn (an empty bin has no logarithm), the J-bar range is that of the MD's
+    occupied bins at these times, and the log axis's floor is set by the smallest MD density
+    drawn."""
+    tau = ds["tau"].values
+    jb = ds["jbar"].values
+    edges = ds["jbar_edges"].values
+    vol = 4 * np.pi * np.diff(edges)
+    i = ds["N"].size - 1  # the largest N
+    snaps = np.unique(np.linspace(0, tau.size - 1, 3).round().astype(int))
+    P = ds["P_md"].values[i, snaps]
+    occupied = np.flatnonzero((P > 0).any(axis=0))
+    if occupied.size == 0:
+        ax.text(0.5, 0.5, "no MD particles in the bins", transform=ax.transAxes, ha="center")
+        return
+    lo, hi = occupied[0], occupied[-1]
+    span = slice(lo, hi + 1)
+    shown = []
+    cols = _snapshot_colours(snaps.size)
+    for k, (j, c) in enumerate(zip(snaps, cols, strict=True)):
+        dens = P[k] / vol
+        err = ds["P_md_err"].values[i, j] / vol
+        has = dens > 0
+        mk = _SNAPSHOT_MARKERS[k % len(_SNAPSHOT_MARKERS)]
+        ax.errorbar(
+            jb[has], dens[has], err[has], fmt=mk, ms=3, color=c, label=rf"MD $\tau={sci(tau[j])}$"
+        )
+        shown.append(dens[has])
+        if "P_lenard_balescu" in ds:
+            lb = ds["P_lenard_balescu"].values[j] / vol
+            ax.plot(jb[span], np.where(lb[span] > 0, lb[span], np.nan), color=c, lw=1)
+    th = ds["P_thermal"].values / vol
+    ax.plot(jb[span], np.where(th[span] > 0, th[span], np.nan), "r:", lw=1, label="thermal")
+    ax.set_yscale("log")
+    shown = np.concatenate(shown)
+    ax.set_ylim(0.3 * shown.min(), 3.0 * max(shown.max(), np.max(th[span])))
+    ax.set_xlim(edges[lo], edges[hi + 1])
+    ax.set_xlabel(rf"$\bar J$ ({HMF})")
+    ax.set_ylabel(r"$f(\bar J)$ (lines: Lenard-Balescu)")
+    ax.legend(fontsize=6)
+
+
 def fig12_relaxation_md(inputs, pdf, png):
     """Per case: <|M|>(t/N), the coarse-grained entropy, the distance of f_MD to the kinetic
     f at matched t/N, and f(J-bar) snapshots; MD at every N against the kinetic evolutions."""
@@ -56,40 +108,20 @@ def fig12_relaxation_md(inputs, pdf, png):
         ax.legend(fontsize=6)
         ax = row[2]
         for i in range(ds["N"].size):
-            d = ds["distance_lenard_balescu"].values[i]
-            e = ds["distance_lenard_balescu_err"].values[i]
+            d = ds["l1_distance_lenard_balescu"].values[i]
+            e = ds["l1_distance_lenard_balescu_err"].values[i]
             ax.errorbar(tau[pos], d[pos], e[pos], color=cols[i], lw=0.8, ms=2, fmt="o-")
-            ax.plot(tau[pos], ds["distance_noise_floor"].values[i][pos], color=cols[i], ls=":")
+            floor = ds["l1_distance_noise_floor"].values[i]
+            ax.plot(tau[pos], floor[pos], color=cols[i], ls=":")
         ax.set_xscale("log")
         ax.set_xlabel(rf"$\tau = t/N$ ({HMF})")
         ax.set_ylabel(r"$\sum_b |P_b^{MD} - P_b^{LB}|$ (dotted: noise)")
-        ax = row[3]
-        jb = ds["jbar"].values
-        width = np.diff(ds["jbar_edges"].values)
-        snaps = np.unique(np.linspace(0, tau.size - 1, 3).round().astype(int))
-        for k, j in enumerate(snaps):
-            i = ds["N"].size - 1  # the largest N
-            dens = ds["P_md"].values[i, j] / (4 * np.pi * width)
-            err = ds["P_md_err"].values[i, j] / (4 * np.pi * width)
-            c = plt.cm.plasma(0.15 + 0.3 * k)
-            ax.errorbar(jb, dens, err, fmt="o", ms=2, color=c, label=rf"MD $\tau={sci(tau[j])}$")
-            if "P_lenard_balescu" in ds:
-                lb = ds["P_lenard_balescu"].values[j] / (4 * np.pi * width)
-                ax.plot(jb, lb, color=c, lw=1)
-        ax.plot(jb, ds["P_thermal"].values / (4 * np.pi * width), "r:", lw=1, label="thermal")
-        ax.set_yscale("log")
-        md_pos = ds["P_md"].values[-1] / (4 * np.pi * width)
-        md_pos = md_pos[md_pos > 0]
-        if md_pos.size:
-            ax.set_ylim(0.3 * md_pos.min(), 3.0 * md_pos.max())
-        ax.set_xlabel(rf"$\bar J$ ({HMF})")
-        ax.set_ylabel(r"$f(\bar J)$ (lines: Lenard-Balescu)")
-        ax.legend(fontsize=6)
+        _snapshot_panel(row[3], ds)
         case = ds.attrs.get("case", "")
         titles += [
             f"{case}: magnetisation",
             "entropy",
-            "distance to Lenard-Balescu",
+            "L1 distance to Lenard-Balescu",
             rf"snapshots, $N={sci(ds['N'].values[-1])}$",
         ]
     tag_panels(axes, titles)
@@ -114,12 +146,12 @@ def fig13_relaxation_time(inputs, pdf, png):
                 grid, amp * grid**a, "C0-", lw=1, label=rf"fit $\propto N^{{{a:.2f}\pm{ae:.2f}}}$"
             )
         for eq, label, c, ls in _KIN:
-            key = f"tau_relax_{eq}"
+            key = f"tau_relax_coarse_{eq}"
             if key in ds and np.isfinite(float(ds[key])):
                 t_eq = float(ds[key])
-                ax.plot(
-                    grid, t_eq * grid, color=c, ls=ls, lw=1, label=rf"{label}: ${sci(t_eq)}\,N$"
-                )
+                tr_c = r"\tau_R^{\rm coarse}"
+                lab = rf"{label}: $t_R = {tr_c} N$, ${tr_c}={sci(t_eq)}$"
+                ax.plot(grid, t_eq * grid, color=c, ls=ls, lw=1, label=lab)
         ax.set_xscale("log")
         shown = [line.get_ydata() for line in ax.get_lines()] + [tr]
         if np.any(np.concatenate([np.ravel(y) for y in shown]) > 0):
@@ -134,7 +166,7 @@ def fig13_relaxation_time(inputs, pdf, png):
                 va="center",
             )
         ax.set_xlabel(r"$N$")
-        ax.set_ylabel(rf"relaxation time $t_R$ ({HMF})")
+        ax.set_ylabel(rf"coarse-grained relaxation time $t_R$ ({HMF})")
         ax.legend(fontsize=7)
         titles.append(f"{ds.attrs.get('case', '')}: entropy deficit / e")
     tag_panels(axes, titles)
