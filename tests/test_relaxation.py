@@ -286,3 +286,43 @@ def test_grid_operator_of_geometry_alone_is_landau(hot):
     op = CollisionOperator(geom, resonance_events(geom, 6))
     ref = _Operator(grid, f, M0, RelaxationSettings(equation="landau", n_nodes=60)).op
     np.testing.assert_allclose(op.rate(np.log(f)), ref.rate(np.log(f)), rtol=1e-12, atol=0)
+
+
+def test_fig11_legend_gives_the_fine_grained_time(monkeypatch):
+    """Figure 11's M0 panel labels each equation with `tau_relax_fine` (made up: 41 and 123,
+    initial-rate estimates 7 and 9 to tell them apart), named tau_R^fine."""
+    import xarray as xr
+
+    from hmfdiff.analysis.figures import relaxation_figures as rf
+
+    drawn = []
+    monkeypatch.setattr(rf, "save_figure", lambda fig, *a, **k: drawn.append(fig))
+    tau = np.array([0.0, 1.0, 10.0, 100.0])
+    jbar = np.linspace(0.05, 1.0, 20)
+    S = np.array([1.0, 1.3, 1.6, 1.7])
+
+    def one(eq, t_fine, t_rate):
+        f = np.exp(-jbar)[None, :] * np.ones((tau.size, 1))
+        return xr.Dataset(
+            {
+                "f": (("tau", "Jbar"), f),
+                "f_thermal_analytic": (("Jbar",), np.exp(-jbar)),
+                "M0": (("tau",), [0.8, 0.75, 0.72, 0.7]),
+                "S": (("tau",), S),
+                "S_thermal_grid": ((), 1.72),
+                "M0_thermal": ((), 0.7),
+                "tau_relax_fine": ((), t_fine),
+                "tau_relax_initial_rate": ((), t_rate),
+            },
+            coords={"tau": tau, "Jbar": jbar},
+            attrs={"case": "hot", "equation": eq},
+        )
+
+    data = [one("landau", 41.0, 7.0), one("lenard_balescu", 123.0, 9.0)]
+    rf.fig11_relaxation({"relaxation": data}, None, None)
+    try:
+        labels = [line.get_label() for line in drawn[0].axes[2].get_lines()]
+        assert any(r"\tau_R^{\rm fine}=41" in lab for lab in labels if "Landau" in lab)
+        assert any(r"\tau_R^{\rm fine}=123" in lab for lab in labels if "Lenard" in lab)
+    finally:
+        rf.plt.close(drawn[0])

@@ -198,3 +198,37 @@ def test_fig12_snapshot_panel_draws_only_the_md_data():
         assert np.min(np.abs(np.diff(np.sort(lum)))) > 0.2
     finally:
         plt.close(fig)
+
+
+def test_fig13_draws_the_coarse_grained_kinetic_times(monkeypatch):
+    """Figure 13 reads `tau_relax_coarse_{eq}` (a made-up 40 and 120 here): each kinetic line
+    is t_R = tau_R^coarse N on the plotted N grid and its legend names tau_R^coarse with its
+    value; the MD points are t_relax_md with their jackknife errors.  (A figure still looking
+    for another name draws no kinetic line at all: that is what this catches.)"""
+    from hmfdiff.analysis.figures import relaxation_md_figures as rmf
+
+    drawn = []
+    monkeypatch.setattr(rmf, "save_figure", lambda fig, *a, **k: drawn.append(fig))
+    ds = xr.Dataset(
+        {
+            "t_relax_md": (("N",), [3.6e4, 1.68e5]),
+            "t_relax_md_err": (("N",), [4.5e3, 1.2e4]),
+            "tau_relax_coarse_landau": ((), 40.0),
+            "tau_relax_coarse_lenard_balescu": ((), 120.0),
+        },
+        coords={"N": [1000, 4000]},
+        attrs={"case": "hot", "exponent": 1.1, "exponent_err": 0.1, "prefactor": 16.0},
+    )
+    rmf.fig13_relaxation_time({"relaxation_comparison": [ds]}, None, None)
+    ax = drawn[0].axes[0]
+    try:
+        labels = {line.get_label(): line for line in ax.get_lines()}
+        for name, tau in (("Landau", 40.0), ("Lenard-Balescu", 120.0)):
+            (lab,) = [k for k in labels if k.startswith(name + ":")]
+            assert r"\tau_R^{\rm coarse}" in lab and f"={tau:g}" in lab
+            x, y = labels[lab].get_xdata(), labels[lab].get_ydata()
+            np.testing.assert_allclose(y, tau * x)
+        (pts,) = [c for c in ax.containers if type(c).__name__ == "ErrorbarContainer"]
+        np.testing.assert_allclose(pts.lines[0].get_ydata(), [3.6e4, 1.68e5])
+    finally:
+        rmf.plt.close(drawn[0])
