@@ -38,11 +38,11 @@ def md_like(seed=0, n_bin=6, n_lag=40, n_block=3):
             "sum_dJbar2_block": v(("bin", "lag", "block"), sum_block, "action^2", "per block"),
             "count_block": v(("bin", "lag", "block"), count_block, "1", "pairs per block"),
             "n_particles_in_bin": v(("bin",), np.full(n_bin, 500), "1", "particles per bin"),
-            "Mx": v(("time",), 0.7 + 1e-3 * rng.standard_normal(t.size), "1", "magnetisation"),
+            "Mx": v(("t",), 0.7 + 1e-3 * rng.standard_normal(t.size), "1", "magnetisation"),
         },
         coords={
             "lag": v(("lag",), lag, "time", "time lag"),
-            "time": v(("time",), t, "time", "time since the start"),
+            "t": v(("t",), t, "time", "time since the start"),
             "jbar_edges": v(("edge",), edges, "action", "bin edges in J-bar_0"),
             "jbar0": v(("bin",), 0.5 * (edges[1:] + edges[:-1]), "action", "bin centres"),
         },
@@ -128,7 +128,7 @@ def test_fit_refuses_impossible_md_values_naming_file_and_variable(
 @pytest.mark.parametrize(
     "variable, change, message",
     [
-        ("time", lambda t: t[::-1], "'time' is not strictly increasing"),
+        ("t", lambda t: t[::-1], "'t' is not strictly increasing"),
         ("lag", lambda t: np.where(np.arange(t.size) == 5, t[4], t), "'lag' is not strictly"),
     ],
 )
@@ -299,7 +299,7 @@ PHYSICAL_RANGES = {
         **dict.fromkeys(
             ["count", "count_block", "n_particles_in_bin", "n_origins_in_block"], NONNEG
         ),
-        **dict.fromkeys(["sample_J", "jbar_edges", "jbar0", "lag", "time", "time_fine"], NONNEG),
+        **dict.fromkeys(["sample_J", "jbar_edges", "jbar0", "lag", "t", "time_fine"], NONNEG),
         **dict.fromkeys(["block", "tracer"], NONNEG),
         **dict.fromkeys(["Mx", "My", "Mx_fine", "My_fine"], (-1, 1)),
         "energy": (-1, None),  # bath: p^2/2 - M0 cos theta >= -1; full: H/N >= -1/2
@@ -328,7 +328,7 @@ PHYSICAL_RANGES = {
         "M_phase": (-math.pi, math.pi),
         "energy": (-0.5, None),
         **dict.fromkeys(["hist", "overflow"], (0, "N")),
-        **dict.fromkeys(["f_jbar", "time", "tau", "realisation", "jbar", "jbar_edges"], NONNEG),
+        **dict.fromkeys(["f_jbar", "t", "tau", "realisation", "jbar", "jbar_edges"], NONNEG),
     },
     r"relaxation/[^/]+\.nc": {
         **dict.fromkeys(

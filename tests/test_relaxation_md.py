@@ -100,12 +100,12 @@ def _synthetic_ensemble(kin, n, R, edges, times_tau, rng):
     t = times_tau * n
     return xr.Dataset(
         {
-            "hist": (("time", "realisation", "jbar"), counts[..., :-1]),
-            "overflow": (("time", "realisation"), counts[..., -1]),
-            "M_abs": (("time", "realisation"), np.full((t.size, R), 0.7)),
+            "hist": (("t", "realisation", "jbar"), counts[..., :-1]),
+            "overflow": (("t", "realisation"), counts[..., -1]),
+            "M_abs": (("t", "realisation"), np.full((t.size, R), 0.7)),
             "jbar_edges": (("jbar_edge",), edges),
         },
-        coords={"time": t},
+        coords={"t": t},
         attrs={"case": "hot", "n_particles": n},
     )
 

@@ -106,7 +106,7 @@ def compare_relaxation(md, kinetic, state, thermal):
     rows, per_n = [], []
     for d in md:
         n = int(d.attrs["n_particles"])
-        t = d["time"].values
+        t = d["t"].values
         tau = t / n
         G = _groups(d["hist"].values, d["overflow"].values, N_GROUPS)
         P_md, P_err = jackknife(G, _pooled_P)

@@ -5,7 +5,9 @@ imaginary parts as separate variables.
 
 Writing.  Every variable with at least one dimension is stored chunked with a Fletcher-32
 checksum (HDF5 `fletcher32`), so that a corrupted chunk makes the read fail instead of
-returning garbage; every variable must carry `units` and `long_name`; the file gets
+returning garbage; every variable must carry `units` and `long_name`, and the units are CF
+units (`cf_units`: "1" or "rad"; an HMF quantity of `HMF_UNITS` is stored as "1" with the
+quantity in `comment`; any other unit string is refused); the file gets
 `Conventions = "CF-1.10"`, a `title`, the config fragment, the package versions, the git
 revision and a `history` line naming the Snakemake rule (when written by one), the package
 version and the git commit.
@@ -50,18 +52,59 @@ CONVENTIONS = "CF-1.10"
 HOLD_ENV = "HMFDIFF_TEST_HOLD"
 PART_SUFFIX = ".part"
 
-#: dimension coordinates that are time axes: they must increase strictly
-TIME_AXES = ("time", "lag", "tau")
+#: dimension coordinates that are time axes: they must increase strictly.  The MD time axis
+#: is `t`, not `time`: CF reserves a `time` coordinate for '<unit> since <epoch>' units
+TIME_AXES = ("t", "lag", "tau")
+
+#: unit strings stored as they are: valid UDUNITS strings (CF 3.1)
+CF_UNITS = ("1", "rad")
+#: the HMF quantities a writer may name as units.  Mass and coupling are 1, so every quantity
+#: is a pure number: it is stored with CF units "1" and the quantity in `comment` (HMF_COMMENT)
+HMF_UNITS = {
+    "action": "action",
+    "action^2": "action^2",
+    "action (dimensionless HMF units)": "action",
+    "action (dimensionless HMF units)^2": "action^2",
+    "action (dimensionless HMF units) / tau": "action / tau (flux in rescaled time tau = t/N)",
+    "action^2/time": "action^2 / time; N * D, the 1/N factored out",
+    "action^2 / time (N * D, the 1/N factored out)": "action^2 / time; N * D, the 1/N factored out",
+    "time": "time",
+    "time (1/sqrt(M=1) units)": "time",
+    "time / N": "time / N (rescaled time tau)",
+    "rescaled time tau = t/N (HMF time units / N)": "rescaled time tau = t / N",
+    "1/time": "1 / time",
+    "1 / tau": "1 / tau (rate in rescaled time tau = t/N)",
+    "time (N S(omega): two-sided, int S domega/2pi = variance)": (
+        "time; N S(omega), two-sided, int S domega / 2 pi = variance"
+    ),
+    "energy per particle": "energy per particle",
+    "momentum per particle": "momentum per particle",
+}
+HMF_COMMENT = "HMF units (unit mass and coupling): "
 
 #: title of a file when the dataset carries none, by the Snakemake rule that writes it
 DEFAULT_TITLES = {
-    "equilibrium": "Equilibrium state of the HMF model",
-    "orbits": "Action-angle variables and Fourier coefficients of the HMF pendulum",
-    "theory": "Dielectric tensor and Landau / Lenard-Balescu diffusion coefficients",
-    "closed_forms": "Closed forms of Benetti & Marcos (2017): sech^4, two-step, appendix C",
-    "md": "Molecular dynamics: <dJ^2> accumulated per initial-action bin and lag",
-    "fit": "Diffusion coefficients fitted to the molecular-dynamics <dJ^2>(dt)",
+    "equilibrium": "Equilibrium state of the HMF model, case {case}",
+    "orbits": "Action-angle variables and Fourier coefficients of the HMF pendulum, case {case}",
+    "theory": "Dielectric tensor and Landau / Lenard-Balescu diffusion coefficients, case {case}",
+    "closed_forms": "Closed forms of Benetti & Marcos (2017) for case {case}: sech^4, two-step, "
+    "appendix C",
+    "md": "Molecular dynamics MD({dynamics}) of case {case}, seed {seed}: <dJ^2> accumulated "
+    "per initial-action bin and lag",
+    "fit": "Diffusion coefficients of MD({dynamics}), case {case}, fitted to <dJ^2>(dt)",
+    "windowed": "Windowed theory of MD({dynamics}) for case {case}: N D over the fit window "
+    "from the measured and the bath spectra",
+    "spectrum": "Magnetisation spectra N S(omega) of case {case}: MD(bath) and MD(full) "
+    "against the bare and dressed bath spectra",
+    "relaxation": "Collisional relaxation of case {case} by the {equation} equation",
+    "md_scaling": "Molecular dynamics MD({dynamics}) of case {case} at N = {n}, seed {seed}: "
+    "<dJ^2> per initial-action bin and lag (N scaling)",
+    "fit_scaling": "Diffusion coefficients of MD({dynamics}), case {case}, N = {n}, fitted to "
+    "<dJ^2>(dt) (N scaling)",
+    "scaling": "N D_MD per bin against N for MD({dynamics}) of case {case} (N scaling)",
 }
+#: how a wildcard value reads in a title
+TITLE_WORDS = {"landau": "Landau", "lenard_balescu": "Lenard-Balescu"}
 
 __all__ = [
     "ENGINE",
@@ -74,6 +117,7 @@ __all__ = [
     "read_dataset",
     "check_physical",
     "scalar",
+    "cf_units",
 ]
 
 
@@ -206,6 +250,29 @@ def atomic_path(path):
             os.unlink(tmp)
 
 
+def cf_units(units, attrs=None):
+    """The attributes to store for a variable given in `units`: CF units (`CF_UNITS` kept as
+    they are; an HMF quantity of `HMF_UNITS` becomes "1" with the quantity in `comment`).
+
+    Refuses (ValueError) any other unit string: no writer can store a unit a CF checker
+    rejects."""
+    attrs = dict(attrs or {})
+    units = str(units).strip()
+    if units in CF_UNITS:
+        attrs["units"] = units
+        return attrs
+    if units not in HMF_UNITS:
+        raise ValueError(
+            f"units {units!r} are neither CF units {CF_UNITS} nor an HMF quantity of "
+            "io.HMF_UNITS: add the quantity there (it is stored as units '1' with a comment)"
+        )
+    note = HMF_COMMENT + HMF_UNITS[units]
+    comment = attrs.get("comment")
+    attrs["comment"] = f"{note}. {comment}" if comment and note not in comment else comment or note
+    attrs["units"] = "1"
+    return attrs
+
+
 def _missing_metadata(ds):
     return [
         name
@@ -218,8 +285,10 @@ def write_dataset(ds, path, config_fragment=None, case=None, history=None, title
     """Write `ds` to netCDF atomically, with checksums and provenance attributes.
 
     Refused (ValueError, before anything is written): complex variables (netCDF has no complex
-    type) and variables without `units` and `long_name`.  Coordinates get no _FillValue; every
-    variable with a dimension gets a Fletcher-32 checksum.  The title is `title`, else the
+    type), variables without `units` and `long_name`, and unit strings that are neither CF
+    units nor an HMF quantity (`cf_units`, which also maps the latter to "1" and a comment).
+    Coordinates get no _FillValue; every variable with a dimension gets a Fletcher-32
+    checksum.  The title is `title`, else the
     dataset's own, else the default of the writing rule.
     """
     for name, var in ds.variables.items():
@@ -232,6 +301,8 @@ def write_dataset(ds, path, config_fragment=None, case=None, history=None, title
             "(every netCDF variable carries both; use units '1' for pure numbers)"
         )
     ds = ds.copy()
+    for var in ds.variables.values():
+        var.attrs = cf_units(var.attrs["units"], var.attrs)  # CF units, or ValueError
     ds.attrs.update(provenance(config_fragment, case=case, history=history))
     ds.attrs["title"] = title or ds.attrs.get("title") or _default_title(path)
     encoding = {}
@@ -254,7 +325,13 @@ def _default_title(path):
 
     job = current_job()
     rule = job.rule if job is not None else None
-    return DEFAULT_TITLES.get(rule, f"hmfdiff output {Path(path).name}")
+    if rule not in DEFAULT_TITLES:
+        return f"hmfdiff output {Path(path).name}"
+    words = {k: TITLE_WORDS.get(str(v), v) for k, v in dict(job.wildcards.items()).items()}
+    try:
+        return DEFAULT_TITLES[rule].format(**words)
+    except (KeyError, IndexError):  # a rule whose wildcards the title does not know
+        return DEFAULT_TITLES[rule].replace("{", "").replace("}", "")
 
 
 def read_dataset(path, required=()):
@@ -371,4 +448,5 @@ def check_physical(ds, *, sums_of_squares=(), counts=(), increasing=(), nonnegat
 
 def scalar(value, units, long_name, **attrs):
     """A 0-d DataArray with units and long_name, for scalar results such as M0 or beta."""
-    return xr.DataArray(float(value), attrs={"units": units, "long_name": long_name, **attrs})
+    attrs = cf_units(units, attrs)
+    return xr.DataArray(float(value), attrs={"long_name": long_name, **attrs})

@@ -14,6 +14,7 @@ so that a rule whose script imports it does not rerun when another stage's physi
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import xarray as xr
@@ -21,6 +22,7 @@ import xarray as xr
 from ..meanfield import orbits
 from ..meanfield.equilibrium import CoreHaloState, ThermalState, make_state
 from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
+from .io import cf_units
 
 __all__ = [
     "variable",
@@ -51,13 +53,22 @@ def variable(dims, data, units, long_name, valid=None, **attrs):
 
     valid: (lo, hi), the physical range of the values (None for an open side), stored as the
     CF attributes valid_min / valid_max in the variable's type; `io.read_dataset` refuses a
-    file holding a value outside it (NaN, a masked value, is not outside)."""
+    file holding a value outside it (NaN, a masked value, is not outside).
+
+    units: CF units ("1", "rad") or an HMF quantity of `io.HMF_UNITS` (stored as "1" with the
+    quantity in `comment`); any other string is refused (ValueError, `io.cf_units`)."""
+    attrs = cf_units(units, attrs)
     if valid is not None:
         kind = np.asarray(data).dtype.type
         for key, bound in zip(("valid_min", "valid_max"), valid, strict=True):
             if bound is not None:
                 attrs[key] = kind(bound)
-    return xr.Variable(dims, data, {"units": units, "long_name": long_name, **attrs})
+    return xr.Variable(dims, data, {"long_name": long_name, **attrs})
+
+
+def _flag_word(meaning):
+    """A flag meaning as one CF word (CF 3.5: letters, digits and _ - . + @; blanks separate)."""
+    return re.sub(r"[^A-Za-z0-9_.+@-]+", "_", meaning).strip("_")
 
 
 # ------------------------------------------------------------------------------ mean field
@@ -243,7 +254,7 @@ def theory_dataset(grid):
             "1",
             "orbit family of kappa*",
             valid=UNIT_INTERVAL,
-            flag_values="0 1",
+            flag_values=np.array([0, 1], dtype=np.int32),  # CF 3.5: the variable's own type
             flag_meanings="libration rotation",
         ),
         "resonance_kappa_star": variable(
@@ -364,7 +375,7 @@ def md_dataset(result):
     and per (bin, lag, block) over (origin, particle) pairs, eq. dj2 (<dJ^2> = sum_dJ2 / count;
     use ds["count"]: ds.count is a method); Mx, My, energy, momentum; a few stored tracks."""
     run, a, edges, series = result.run, result.sums, result.jbar_edges, result.series
-    bl, bll, t, tt = ("bin", "lag"), ("bin", "lag", "block"), ("time",), ("time", "tracer")
+    bl, bll, t, tt = ("bin", "lag"), ("bin", "lag", "block"), ("t",), ("t", "tracer")
     data = {}
 
     def sums(name, i, units, long_name, dtype=float, valid=NONNEGATIVE):  # per (bin, lag), block
@@ -454,7 +465,7 @@ def md_dataset(result):
             "time lag Delta t",
             valid=NONNEGATIVE,
         ),
-        "time": variable(
+        "t": variable(
             t,
             np.arange(result.sample_theta.shape[0]) * run.sample_every,
             "time",
@@ -526,8 +537,9 @@ def fit_dataset(fit):
             "1",
             "bin quality",
             valid=(min(flags), max(flags)),
-            flag_values=" ".join(map(str, flags)),
-            flag_meanings="; ".join(flags.values()),
+            flag_values=np.array(list(flags), dtype=np.asarray(fit["flag"]).dtype),
+            flag_meanings=" ".join(map(_flag_word, flags.values())),
+            comment="; ".join(f"{k}: {v}" for k, v in flags.items()),
         ),
         "M0": variable(
             (), float(fit["M0"]), "1", "magnetisation used for the actions", valid=UNIT_INTERVAL

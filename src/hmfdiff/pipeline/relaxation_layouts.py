@@ -30,99 +30,97 @@ def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
     ds = xr.Dataset(
         {
             "M_abs": _var(
-                ("time", "realisation"),
+                ("t", "realisation"),
                 out["M_abs"],
                 "1",
                 "modulus of the magnetisation |M| of each realisation",
                 valid=UNIT_INTERVAL,
             ),
             "M_phase": _var(
-                ("time", "realisation"),
+                ("t", "realisation"),
                 out["M_phase"],
                 "rad",
                 "direction of the magnetisation arg(Mx + i My)",
                 valid=(-np.pi, np.pi),
             ),
             "energy": _var(
-                ("time", "realisation"),
+                ("t", "realisation"),
                 out["energy"],
                 "energy per particle",
                 "H/N = sum p^2/(2N) - |M|^2/2 (eq. hmfhamiltonian)",
                 valid=ENERGY_PER_PARTICLE,
             ),
             "momentum": _var(
-                ("time", "realisation"),
+                ("t", "realisation"),
                 out["momentum"],
                 "momentum per particle",
                 "total momentum per particle sum p_i / N",
             ),
             "energy_drift": _var(
-                ("time", "realisation"),
+                ("t", "realisation"),
                 out["energy"] - e0[None, :],
                 "energy per particle",
                 "H/N(t) - H/N(0)",
             ),
             "M_abs_mean": _var(
-                ("time",),
+                ("t",),
                 out["M_abs"].mean(axis=1),
                 "1",
                 "ensemble mean of |M|",
                 valid=UNIT_INTERVAL,
             ),
             "M_abs_std": _var(
-                ("time",),
+                ("t",),
                 out["M_abs"].std(axis=1, ddof=1) if R > 1 else np.zeros(t.size),
                 "1",
                 "standard deviation of |M| between realisations",
                 valid=UNIT_INTERVAL,
             ),
             "M0_actions": _var(
-                ("time",),
+                ("t",),
                 out["M0_actions"],
                 "1",
                 "magnetisation defining the actions: ensemble mean of |M| at that time",
                 valid=UNIT_INTERVAL,
             ),
             "hist": _var(
-                ("time", "realisation", "jbar"),
+                ("t", "realisation", "jbar"),
                 hist.astype(np.int32),
                 "1",
                 "number of particles per J-bar bin, in the realisation's magnetisation frame",
                 valid=(0, n_particles),
             ),
             "overflow": _var(
-                ("time", "realisation"),
+                ("t", "realisation"),
                 overflow.astype(np.int32),
                 "1",
                 "number of particles beyond the last J-bar edge",
                 valid=(0, n_particles),
             ),
             "f_jbar": _var(
-                ("time", "jbar"),
+                ("t", "jbar"),
                 density_from_histogram(pooled, edges, pooled_over),
                 "1",
                 "phase-space density f(J-bar) of the pooled histogram, normalised to one particle",
                 valid=NONNEGATIVE,
             ),
             "entropy": _var(
-                ("time",),
+                ("t",),
                 entropy_from_histogram(pooled, edges, pooled_over),
                 "1",
                 "coarse-grained entropy -sum_b P_b ln(P_b / (4 pi dJbar_b)), pooled histogram",
             ),
             "entropy_realisation": _var(
-                ("time", "realisation"),
+                ("t", "realisation"),
                 entropy_from_histogram(hist, edges, overflow),
                 "1",
                 "coarse-grained entropy of each realisation's histogram",
             ),
         },
         coords={
-            "time": _var(
-                ("time",), t, "time", "time t in HMF units (not rescaled)", valid=NONNEGATIVE
-            ),
+            "t": _var(("t",), t, "time", "time t in HMF units (not rescaled)", valid=NONNEGATIVE),
             "tau": _var(
-                ("time",), t / n_particles, "time", "rescaled time tau = t / N", valid=NONNEGATIVE
+                ("t",), t / n_particles, "time", "rescaled time tau = t / N", valid=NONNEGATIVE
             ),
             "realisation": _var(
                 ("realisation",),
