@@ -20,10 +20,11 @@ Measured 2026-11-25 (issue 20; a 2-core machine under load ~14, so wall times ar
 
 * rtol: ch2* Lenard-Balescu at 600 nodes, rtol 1e-3 -> 5e-4: max |dM0(tau)| = 1.0e-5,
   tau_R 1846 -> 1865 (+1.0 %); the initial-rate time (S_eq - S0)/Sdot0 = 193.7-193.8 at 300-900.
-* n_nodes: ch2* Lenard-Balescu tau_R (entropy deficit / e, thermal_tol 1e-3) = 1383 (300
-  nodes), 1983 (900) with the separatrix a face of the grid; 1265 (300), 1846 (600) before.
-  M0(tau) moves by 2.8e-4 from 300 to 600 nodes (M0 falls by 1.5e-3 in all).  Not converged:
-  the default of 600 nodes has an error of tens of per cent in tau_R, not 2-3 %.
+* n_nodes: ch2* Lenard-Balescu tau_R (entropy deficit / e, thermal_tol 1e-3) = 1383, 1761,
+  1983 at 300, 600, 900 nodes with the separatrix a face of the grid (1265, 1846 at 300, 600
+  before); max |dM0(tau)| 1.2e-4 (300 -> 600) and 9.1e-5 (600 -> 900), M0 falls by 1.5e-3 in
+  all.  M0(tau) meets 1e-3; tau_R is not converged: the default of 600 nodes is >= 13 % from
+  900 nodes, not within 2-3 %.
 * why (--study separatrix): dM0/dtau(0) = N / (1 - dF/dM0).  1 - dF/dM0 converges (ch2*
   0.87264, hot halo 0.90483 by quadrature; grid within 6e-4 at 150 nodes).  N does not: ch2*
   Landau N = 5.48e-4, 5.43e-4, 4.36e-4, 3.14e-4, 2.58e-4 at 150/300/600/1200/2400 nodes,
