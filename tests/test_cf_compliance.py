@@ -1,0 +1,111 @@
+"""CF metadata that a maintained checker accepts (issue 22 part 5).
+
+Every netCDF output of the shared smoke run is given to the IOOS compliance checker
+(`compliance-checker`, pinned in environment.txt; its CF 1.10 suite, run in-process) and must
+raise no error: no result of weight 3 (the checker's "high priority", i.e. a violation of a
+CF "shall") that failed.  Errors seen before this test: HMF unit descriptions that UDUNITS does
+not parse, a dimension named `time` (CF then demands '<unit> since <epoch>', impossible for the
+dimensionless HMF time), flag_values stored as text and flag meanings that are not single
+words.  Warnings (weight 2, e.g. Omega and omega in one file) are allowed.
+
+The units rule is enforced at the source: `layouts.variable`, `io.scalar` and
+`io.write_dataset` refuse a unit string that is neither CF ("1", "rad") nor a named HMF
+quantity, which is stored as "1" with the quantity in `comment`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io as _io
+
+import netCDF4
+import numpy as np
+import pytest
+import xarray as xr
+from _smoke import smoke_workdir
+
+from hmfdiff.pipeline import io, layouts
+
+CF = "cf:1.10"
+#: output folders whose files are about one case: their title must name it
+CASE_TITLED = ("relaxation", "relaxation_md", "spectrum", "windowed", "scaling", "fits")
+
+
+@pytest.fixture(scope="module")
+def smoke_files(tmp_path_factory):
+    files = sorted(smoke_workdir(tmp_path_factory).glob("results/**/*.nc"))
+    assert len(files) >= 40, files  # the smoke run writes 68 netCDF files (2026-11-25)
+    return files
+
+
+def cf_errors(files):
+    """(file name, message) for every failed weight-3 result of the CF 1.10 suite."""
+    from compliance_checker.runner import CheckSuite
+
+    suite = CheckSuite()
+    with contextlib.redirect_stdout(_io.StringIO()):
+        suite.load_all_available_checkers()
+    errors = []
+    for path in files:
+        ds = suite.load_dataset(str(path))
+        try:
+            groups = suite.run_all(ds, [CF], skip_checks=[])[CF][0]
+        finally:
+            ds.close()
+        for g in groups:
+            if g.weight == 3 and g.value[0] < g.value[1]:
+                errors += [(str(path), msg) for msg in (g.msgs or [g.name])]
+    return errors
+
+
+def test_every_smoke_output_passes_the_cf_checker(smoke_files):
+    # measured 2026-11-25: the 68 files take ~20 s of CPU (26 s wall under load)
+    errors = cf_errors(smoke_files)
+    listing = "\n".join(f"{f.split('results/')[-1]}: {m}" for f, m in errors[:40])
+    assert not errors, f"{len(errors)} CF errors:\n{listing}"
+
+
+def test_every_smoke_output_has_a_specific_title_and_cf_units(smoke_files):
+    generic = []
+    for path in smoke_files:
+        with netCDF4.Dataset(path) as nc:
+            title, case = nc.getncattr("title"), getattr(nc, "case", None)
+            where = next((p for p in path.parts if p in CASE_TITLED), None)
+            if title.startswith("hmfdiff output") or (where and case and case not in title):
+                generic.append(f"{path.parent.name}/{path.name}: {title!r}")
+            for name, var in nc.variables.items():
+                units = var.getncattr("units")
+                assert units in io.CF_UNITS, f"{path}: {name} has units {units!r}"
+                if units == "1" and "comment" in var.ncattrs():
+                    assert isinstance(var.getncattr("comment"), str)
+    assert not generic, "titles that do not say what the file holds:\n" + "\n".join(generic)
+
+
+def test_variable_stores_hmf_quantities_as_cf_units_and_refuses_unknown_units():
+    v = layouts.variable(("x",), np.ones(2), "action^2/time", "N D")
+    assert v.attrs["units"] == "1"
+    assert v.attrs["comment"] == io.HMF_COMMENT + io.HMF_UNITS["action^2/time"]
+    assert "action^2 / time" in v.attrs["comment"]
+    assert layouts.variable(("x",), np.ones(2), "rad", "angle").attrs["units"] == "rad"
+    kept = layouts.variable(("x",), np.ones(2), "time", "t", comment="sampled every 0.5")
+    assert kept.attrs["comment"].endswith("sampled every 0.5")
+    assert kept.attrs["comment"].startswith(io.HMF_COMMENT + "time")
+    for bad in ("action (HMF)", "seconds since 2000-01-01", "[time]", "m s-1", ""):
+        with pytest.raises(ValueError, match="neither CF units"):
+            layouts.variable(("x",), np.ones(2), bad, "x")
+    with pytest.raises(ValueError, match="neither CF units"):
+        io.scalar(1.0, "time (N units)", "t")
+    assert io.scalar(1.0, "1", "M0").attrs["units"] == "1"
+
+
+def test_write_dataset_refuses_units_a_checker_rejects(tmp_path):
+    # a writer that builds its variables without `variable` cannot store them either
+    raw = xr.Dataset({"x": xr.Variable(("n",), np.ones(3), {"units": "action", "long_name": "J"})})
+    io.write_dataset(raw, tmp_path / "ok.nc", title="test")
+    with netCDF4.Dataset(tmp_path / "ok.nc") as nc:
+        assert nc["x"].units == "1" and nc["x"].comment == io.HMF_COMMENT + "action"
+    bad = raw.copy()
+    bad["x"].attrs["units"] = "[time]"
+    with pytest.raises(ValueError, match=r"'\[time\]'"):
+        io.write_dataset(bad, tmp_path / "bad.nc", title="test")
+    assert not (tmp_path / "bad.nc").exists()
