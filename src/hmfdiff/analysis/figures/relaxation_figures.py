@@ -79,12 +79,12 @@ def fig11_relaxation(inputs, pdf, png):
         ax_s.axhline(
             float(first["S_thermal_grid"]), color="r", ls=":", lw=1, label="thermal, same $u$"
         )
-        for ax, ylabel in ((ax_m, "$M_0$"), (ax_s, "$S$")):
+        for ax, ylabel in ((ax_m, "$M_0$"), (ax_s, r"fine-grained $S = -\int f \ln f$")):
             ax.set_xscale("log")
             ax.set_xlabel(rf"$\tau = t/N$ ({HMF})")
             ax.set_ylabel(ylabel)
             ax.legend(fontsize=6)
-        titles += [f"{case}: magnetisation", f"{case}: entropy"]
+        titles += [f"{case}: magnetisation", f"{case}: fine-grained entropy"]
     tag_panels(axes, titles)
     fig.tight_layout()
     save_figure(fig, pdf, png, inputs, title="Fig. 11: collisional relaxation")
