@@ -599,7 +599,10 @@ def test_every_block_needs_enough_particles_for_a_mean_field():
         (
             ("md", "seeds"),
             2000,
-            ["spectrum case 'thermal_u-0.1' (figure 'fig14_spectrum'): field 'seeds' = 2000"],
+            [
+                "spectrum case 'thermal_u-0.1' (figure 'fig14_spectrum'): field 'seeds' = "
+                f"{SMOKE['md']['seeds_bath']} + 2000 (bath + full)"
+            ],
         ),
     ],
 )

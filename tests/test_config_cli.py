@@ -317,7 +317,10 @@ def test_numbers_in_any_notation_and_nested_overrides_are_accepted(workdir, tmp_
     cfg.write_text(text)
     r = snakemake(workdir, ["-n", "--configfile", str(cfg), *extra])
     assert r.returncode == 0, (r.stdout + r.stderr)[-3000:]
-    assert re.search(r"\bmd\s+8\b", r.stdout + r.stderr)  # 2 cases x 2 dynamics x 2 seeds
+    md = yaml.safe_load(text)["md"]
+    seeds = md.get("seeds_bath", md["seeds"]) + md.get("seeds_full", md["seeds"])
+    n_md = len(md["runs"]) * seeds  # cases x (bath + full seeds)
+    assert re.search(rf"\bmd\s+{n_md}\b", r.stdout + r.stderr)
 
 
 def test_malformed_default_config_names_the_file(tmp_path):

@@ -32,6 +32,9 @@ def test_md_runs_merge_defaults_with_each_case():
         expected.update(md["runs"][case])
         expected["n_test"] = expected.pop(f"n_test_{dynamics}")
         del expected["n_test_bath" if dynamics == "full" else "n_test_full"]
+        # seeds_bath / seeds_full override seeds for their dynamics (the smoke config sets one)
+        expected["seeds"] = expected.pop(f"seeds_{dynamics}", expected["seeds"])
+        expected.pop("seeds_bath" if dynamics == "full" else "seeds_full", None)
         got = run.to_dict()
         for key, value in expected.items():
             assert got[key] == value, (case, dynamics, key)
