@@ -91,15 +91,45 @@ def get_logger(name, log_path=None):
     return logger
 
 
+def scripts_in_use(proc="/proc"):
+    """Names of the `.snakemake/scripts` files that a live process of this machine runs (read
+    from every /proc/<pid>/cmdline), or None where there is no /proc."""
+    root = Path(proc)
+    if not root.is_dir():
+        return None
+    used = set()
+    for d in root.iterdir():
+        if not d.name.isdigit():
+            continue
+        try:
+            args = (d / "cmdline").read_bytes().split(b"\0")
+        except OSError:  # the process ended, or is not ours to read
+            continue
+        for a in args:
+            if b".snakemake/scripts/" in a:
+                used.add(os.path.basename(a.decode(errors="replace")))
+    return used
+
+
 def remove_stale_job_scripts(workdir="."):
     """Delete the temporary job scripts that killed jobs left in `.snakemake/scripts`; return
     them.
 
-    For the Snakefile's `onstart:` handler: a run that starts holds the directory lock, so no
-    job of another run is alive in this directory, and a job that ends removes its own script
-    (a SIGKILL does not let it).  Not for runs started with --nolock beside another run."""
+    For the Snakefile's `onstart:` handler.  A job that ends removes its own script (a SIGKILL
+    does not let it).  Snakemake's lock covers only the files of a run, so another run with
+    other targets may be alive in the same directory: a script that a live process of this
+    machine runs is kept (its run would fail at the job's end, deleting the finished output,
+    if it vanished), and where the processes cannot be listed (no /proc) nothing is deleted.
+    Jobs of a concurrent run on other machines (a cluster) are not visible here: do not start
+    a second run in a directory whose first run has cluster jobs alive."""
     scripts = Path(workdir) / ".snakemake" / "scripts"
-    stale = sorted(scripts.glob("tmp*")) if scripts.is_dir() else []
+    candidates = sorted(scripts.glob("tmp*")) if scripts.is_dir() else []
+    if not candidates:
+        return []
+    used = scripts_in_use()
+    if used is None:
+        return []
+    stale = [p for p in candidates if p.name not in used]
     for path in stale:
         path.unlink(missing_ok=True)
     return stale
