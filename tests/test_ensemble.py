@@ -59,8 +59,39 @@ def test_output_does_not_depend_on_the_thread_count():
     )
     a = ensemble.run_ensemble(state, threads=1, **kw)
     b = ensemble.run_ensemble(state, threads=2, **kw)
-    for key in ("M_abs", "M_phase", "energy", "momentum", "hist", "overflow"):
+    keys = ["M_abs", "M_phase", "energy", "momentum"]
+    keys += [f"{h}{m}" for h in ("hist", "overflow") for m in ensemble.ACTION_MEASURES]
+    for key in keys:
         np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+
+
+def test_the_three_action_measures():
+    """J-bar measured with <|M|>, with each realisation's |M| and with a static M0: one
+    realisation's own |M| is the ensemble mean (same histograms to the count); a static M0
+    equal to the state's is the mean field's at t = 0 up to the sample's O(1/sqrt N) |M|, and
+    a static M0 far off (0.4 for a state of M0 0.6) moves several times more (0.04-0.08 of
+    the particles, against < 0.01)."""
+    state = ThermalState(M0=0.6)
+    kw = dict(
+        n_particles=2000,
+        dt=0.1,
+        times=np.array([0.0, 5.0, 20.0]),
+        jbar_edges=np.linspace(0.0, 1.5, 16),
+        seed=3,
+        progress=lambda msg: None,
+    )
+    one = ensemble.run_ensemble(state, n_realisations=1, **kw)
+    np.testing.assert_array_equal(one["hist_own"], one["hist"])
+    np.testing.assert_array_equal(one["overflow_own"], one["overflow"])
+    many = ensemble.run_ensemble(state, n_realisations=4, **kw)
+    assert np.any(many["hist_own"] != many["hist"])  # each realisation its own |M|
+    # static M0 = the state's: the histograms differ from the mean field's by the few particles
+    # that the difference |M| - M0 ~ 1/sqrt(N) carries across a bin edge
+    moved = np.abs(many["hist_static"] - many["hist"]).sum(axis=-1) / kw["n_particles"]
+    assert np.all(moved < 0.015), moved
+    off = ensemble.run_ensemble(state, n_realisations=4, M0_static=0.4, **kw)
+    moved_off = np.abs(off["hist_static"] - off["hist"]).sum(axis=-1) / kw["n_particles"]
+    assert np.all(moved_off > 0.03), moved_off
 
 
 def test_measurement_times_are_whole_steps_dense_early():

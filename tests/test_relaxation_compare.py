@@ -110,11 +110,17 @@ KINETIC = {
 }
 
 
-def md_ensemble(n, R, rng, tau_e=TAU_MD):
-    """R realisations of n particles at t = tau N, in the relaxation_md layout."""
+def md_ensemble(n, R, rng, tau_e=TAU_MD, own_tau_e=None):
+    """R realisations of n particles at t = tau N, in the relaxation_md layout; with own_tau_e,
+    histograms of the other J-bar measures too: 'own' relaxing with own_tau_e, 'static' a copy
+    of the main one."""
     t = TAUS * n
-    counts = rng.multinomial(n, bin_probabilities(weight_a(TAUS, tau_e)), size=(R, TAUS.size))
-    counts = counts.transpose(1, 0, 2)  # (time, realisation, bin)
+
+    def draw(te):
+        c = rng.multinomial(n, bin_probabilities(weight_a(TAUS, te)), size=(R, TAUS.size))
+        return c.transpose(1, 0, 2)  # (time, realisation, bin)
+
+    counts = draw(tau_e)
     M = m_exact(TAUS)[:, None] + SIGMA_M / np.sqrt(n) * rng.standard_normal((TAUS.size, R))
     zeros = np.zeros((TAUS.size, R))
     out = {
@@ -128,6 +134,10 @@ def md_ensemble(n, R, rng, tau_e=TAU_MD):
         "overflow": counts[..., -1],
         "wall_time_s": 0.0,
     }
+    if own_tau_e is not None:
+        own = draw(own_tau_e)
+        out.update(hist_own=own[..., :-1], overflow_own=own[..., -1])
+        out.update(hist_static=out["hist"], overflow_static=out["overflow"])
     return relaxation_md_dataset(
         out,
         EDGES,
@@ -140,14 +150,16 @@ def md_ensemble(n, R, rng, tau_e=TAU_MD):
 
 @pytest.fixture
 def known_states(monkeypatch):
-    """The initial and thermal states as their (known) bin fractions: the comparison's only use
-    of them (their J-bar CDF is tested in test_relaxation_md)."""
+    """The initial and thermal states as their (known) bin fractions and M0: the comparison's
+    only use of them (their J-bar CDF is tested in test_relaxation_md)."""
     fractions = {
         "initial": bin_probabilities(P0)[:-1],
         "thermal": bin_probabilities(P_EQ_A)[:-1],
     }
-    monkeypatch.setattr(rc, "state_bin_fractions", lambda state, edges: fractions[state])
-    return "initial", "thermal"
+    monkeypatch.setattr(rc, "state_bin_fractions", lambda state, edges: fractions[state.name])
+    initial = types.SimpleNamespace(name="initial", M0=M_START)
+    thermal = types.SimpleNamespace(name="thermal", M0=m_exact(np.inf))
+    return initial, thermal
 
 
 def test_one_comparison_against_closed_forms(known_states, tmp_path):
@@ -308,3 +320,52 @@ def test_jackknife_groups_reported(known_states):
     md = [md_ensemble(1000, 20, rng), md_ensemble(2000, 6, rng)]
     _, _, summary = rc.compare_relaxation(md, KINETIC, *known_states)
     assert summary["jackknife_groups"] == {1000: 10, 2000: 6}
+
+
+def test_relaxation_time_of_each_action_measure(known_states):
+    """t_R is also computed from the histograms of J-bar measured with each realisation's |M|
+    and with the static M0: a copy of the main histograms gives the same t_R to the last digit,
+    histograms relaxing twice as slowly give twice the time (within errors), and the summary
+    and dataset carry both."""
+    rng = np.random.default_rng(5)
+    md = [md_ensemble(n, R, rng, own_tau_e=2 * TAU_MD) for n, R in ((1000, 20), (2000, 10))]
+    ds, _, summary = rc.compare_relaxation(md, KINETIC, *known_states)
+    for i, n in enumerate((1000, 2000)):
+        t_s, e_s = summary["t_relax_md_measures"][n]["_static"]
+        assert t_s == summary["t_relax_md"][n] and e_s == summary["t_relax_md_err"][n]
+        t_o, e_o = summary["t_relax_md_measures"][n]["_own"]
+        assert abs(t_o - relaxation_tau_sampled(2 * TAU_MD) * n) < 4 * e_o
+        assert ds["t_relax_md_own"].values[i] == t_o
+        assert ds["t_relax_md_static_err"].values[i] == e_s
+    lines = rc.summary_lines(summary)
+    assert any("each realisation's own |M|: t_R/N" in line for line in lines)
+
+
+def _thermal_M0_by_bisection(u):
+    """Thermal M0 of energy u, independently: M = I1(beta M)/I0(beta M) with
+    beta = 1 / (2 (u + M^2/2)), solved for M by bisection (the magnetised root)."""
+    from scipy import optimize, special
+
+    def g(m):
+        beta = 1.0 / (2.0 * (u + 0.5 * m * m))
+        return special.i1e(beta * m) / special.i0e(beta * m) - m
+
+    lo = np.sqrt(max(-2.0 * u, 0.0)) + 1e-9  # beta > 0 needs u + M^2/2 > 0
+    return optimize.brentq(g, max(lo, 1e-3), 1 - 1e-12, xtol=1e-14)
+
+
+def test_end_state_against_the_thermal_state_of_each_realisation_energy():
+    """Realisations drawn with energies scattered about u0 end at the thermal M0 of their own
+    energy: the comparison's reference is the mean of those (not the M0 of u0), their
+    difference from the end |M| is zero, and the summary says so."""
+    u0 = -0.073
+    energies = u0 + np.array([-0.012, 0.004, 0.010, 0.015, -0.002])
+    m_own = np.array([_thermal_M0_by_bisection(e) for e in energies])
+    o = rc.own_energy_thermal(energies, m_own)
+    assert o["M0_thermal_own"][0] == pytest.approx(m_own.mean(), abs=1e-9)
+    assert o["M_end_minus_own"][0] == pytest.approx(0.0, abs=1e-9)
+    assert o["energy0"][1] == pytest.approx(energies.std(ddof=1) / np.sqrt(5), rel=1e-12)
+    # the state's energy alone would put the reference off by the mean energy's shift
+    m_u0 = _thermal_M0_by_bisection(u0)
+    off = rc.own_energy_thermal(energies, np.full(5, m_u0))["M_end_minus_own"][0]
+    assert off == pytest.approx(m_u0 - m_own.mean(), abs=1e-9) and abs(off) > 1e-3

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..meanfield.equilibrium import thermal_M0_from_energy
 from ..pipeline.layouts import variable
 from .relaxation_md import (
     PHASE_VOLUME_PER_JBAR,
@@ -31,6 +32,9 @@ from .relaxation_md import (
 __all__ = ["compare_relaxation", "summary_lines", "COMPARISON_COLUMNS"]
 
 N_GROUPS = 10  # groups of realisations for jackknife errors
+
+#: J-bar measures besides the mean field's <|M|>(t) (histograms hist_own, hist_static)
+MEASURES = {"_own": "each realisation's own |M|", "_static": "the initial state's static M0"}
 
 COMPARISON_COLUMNS = [
     "case",
@@ -75,6 +79,28 @@ def _pooled_P(G):
     return G[..., :-1].sum(axis=0) / np.maximum(total, 1.0)[..., None]
 
 
+def own_energy_thermal(energy0, M_end):
+    """Each realisation relaxes towards the thermal state of its own energy, which scatters
+    about u0 by O(1/sqrt N) (its N particles are drawn independently).  From the energies per
+    particle at t = 0 and |M| at the last sample, per realisation: the mean over realisations
+    of the thermal M0 of each one's energy, the mean |M| at the end, and the mean of their
+    difference, each with its standard error over realisations."""
+    e = np.asarray(energy0, dtype=float)
+    m_th = np.array([thermal_M0_from_energy(x) for x in e])
+    m_end = np.asarray(M_end, dtype=float)
+    R = e.size
+
+    def mean_err(v):
+        return float(v.mean()), float(v.std(ddof=1) / np.sqrt(R)) if R > 1 else np.nan
+
+    return {
+        "energy0": mean_err(e),
+        "M0_thermal_own": mean_err(m_th),
+        "M_end": mean_err(m_end),
+        "M_end_minus_own": mean_err(m_end - m_th),
+    }
+
+
 def compare_relaxation(md, kinetic, state, thermal):
     """Compare the ensembles `md` (list of relaxation_md datasets of one case, any N) with
     the kinetic evolutions `kinetic` ({equation: relaxation dataset}).
@@ -113,9 +139,23 @@ def compare_relaxation(md, kinetic, state, thermal):
         S_md, S_err = jackknife(G, lambda g: _coarse_entropy(_pooled_P(g), edges))
         M = d["M_abs"].values
         M_md, M_err = M.mean(axis=1), M.std(axis=1, ddof=1) / np.sqrt(M.shape[1])
+        own_eq = own_energy_thermal(d["energy"].values[0], M[-1])
         t_relax, t_relax_err = jackknife(
             G, lambda g, t=t: relaxation_time(t, S_eq - _coarse_entropy(_pooled_P(g), edges))
         )
+        other = {}  # t_R with J-bar measured with each realisation's |M|, the static M0
+        for m in ("_own", "_static"):
+            if "hist" + m in d:
+                Gm = _groups(d["hist" + m].values, d["overflow" + m].values, N_GROUPS)
+                other[m] = tuple(
+                    float(x)
+                    for x in jackknife(
+                        Gm,
+                        lambda g, t=t: relaxation_time(
+                            t, S_eq - _coarse_entropy(_pooled_P(g), edges)
+                        ),
+                    )
+                )
         floor = np.sqrt(2.0 / np.pi) * P_err.sum(axis=-1)
         cols = {"M": {}, "S": {}, "d": {}, "d_err": {}, "P": {}}
         for eq, k in kin.items():
@@ -157,6 +197,8 @@ def compare_relaxation(md, kinetic, state, thermal):
                 t_relax=float(t_relax),
                 t_relax_err=float(t_relax_err),
                 n_groups=int(G.shape[0]),
+                t_relax_measures=other,
+                own_eq=own_eq,
                 cols=cols,
                 floor=floor,
             )
@@ -179,6 +221,9 @@ def compare_relaxation(md, kinetic, state, thermal):
         "t_relax_md": dict(zip(ns.astype(int).tolist(), tr.tolist(), strict=True)),
         "t_relax_md_err": dict(zip(ns.astype(int).tolist(), tr_err.tolist(), strict=True)),
         "jackknife_groups": {p["n"]: p["n_groups"] for p in per_n},
+        "t_relax_md_measures": {p["n"]: p["t_relax_measures"] for p in per_n},
+        "M0_thermal_u0": float(thermal.M0),
+        "own_energy_thermal": {p["n"]: p["own_eq"] for p in per_n},
     }
     ds = _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary)
     return ds, rows, summary
@@ -247,6 +292,36 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
             [p["t_relax_err"] for p in per_n],
             "time",
             f"jackknife error of t_relax_md over {N_GROUPS} groups of realisations",
+        ),
+        **{
+            f"t_relax_md{m}": variable(
+                ("N",),
+                [p["t_relax_measures"].get(m, (np.nan, np.nan))[0] for p in per_n],
+                "time",
+                f"t_relax_md with J-bar measured with {how}",
+            )
+            for m, how in MEASURES.items()
+        },
+        **{
+            f"t_relax_md{m}_err": variable(
+                ("N",),
+                [p["t_relax_measures"].get(m, (np.nan, np.nan))[1] for p in per_n],
+                "time",
+                f"jackknife error of t_relax_md{m}",
+            )
+            for m in MEASURES
+        },
+        "M0_thermal_own_energy": variable(
+            ("N",),
+            [p["own_eq"]["M0_thermal_own"][0] for p in per_n],
+            "1",
+            "mean over realisations of the thermal M0 of each realisation's own initial energy",
+        ),
+        "M0_thermal_own_energy_err": variable(
+            ("N",),
+            [p["own_eq"]["M0_thermal_own"][1] for p in per_n],
+            "1",
+            "standard error of M0_thermal_own_energy",
         ),
         "S_thermal": variable(
             (),
@@ -345,6 +420,32 @@ def summary_lines(summary):
         ratio = {eq: t / (tau * n) for eq, tau in summary["tau_relax_coarse"].items()}
         rs = ", ".join(f"t_R/(tau_R^coarse N) = {r:.3f} ({eq})" for eq, r in ratio.items())
         out.append(f"  MD N = {n}: t_R = {t:.4g} +- {err:.2g}, t_R/N = {t / n:.4g}; {rs}")
+    own = summary.get("own_energy_thermal", {})
+    if own:
+        out.append(
+            "  end state: each realisation relaxes to the thermal state of its own energy (drawn "
+            "with scatter O(1/sqrt N) about u0; thermal M0 of u0 = "
+            f"{summary['M0_thermal_u0']:.5f}); +- standard errors over realisations:"
+        )
+        for n, o in own.items():
+            e, mt, me, dm = (
+                o[k] for k in ("energy0", "M0_thermal_own", "M_end", "M_end_minus_own")
+            )
+            out.append(
+                f"    N = {n}: <u_r> = {e[0]:.5f} +- {e[1]:.5f}, <M0_thermal(u_r)> = "
+                f"{mt[0]:.5f} +- {mt[1]:.5f}, <|M|> at the last sample {me[0]:.5f} +- {me[1]:.5f}, "
+                f"difference {dm[0]:+.5f} +- {dm[1]:.5f}"
+            )
+    meas = summary.get("t_relax_md_measures", {})
+    if any(meas.values()):
+        out.append(
+            "  t_R with J-bar measured otherwise (the default above: the ensemble mean <|M|>(t)):"
+        )
+        for n, per in meas.items():
+            parts = [
+                f"{MEASURES[m]}: t_R/N = {v[0] / n:.4g} +- {v[1] / n:.2g}" for m, v in per.items()
+            ]
+            out.append(f"    N = {n}: " + "; ".join(parts))
     out.append(
         f"  exponent of t_R = A N^alpha: alpha = {summary['exponent']:.3f} +- "
         f"{summary['exponent_err']:.3f} (kinetic theory at order 1/N: alpha = 1)"

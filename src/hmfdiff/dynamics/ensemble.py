@@ -15,7 +15,10 @@ histogram of the rescaled action J-bar of its particles.  Actions are measured i
 realisation's own magnetisation frame, with the magnetisation modulus of the mean field, the
 ensemble mean <|M|>(t): the kinetic f(J, tau) is defined with the mean field M0(tau), of which
 <|M|> is the estimate; a realisation's own |M| carries O(1/sqrt N) fluctuations that are part
-of the noise driving the relaxation, not of the mean field that defines the orbits.
+of the noise driving the relaxation, not of the mean field that defines the orbits.  Two other
+measures are kept beside it, to show that a result does not hang on that choice: J-bar with
+each realisation's own |M| ('hist_own') and with the initial state's static M0
+('hist_static').
 """
 
 from __future__ import annotations
@@ -31,7 +34,12 @@ from . import sampling
 from .elementary import _CHUNK, _FM, actions, sincos_wrapped_array
 from .integrator import _chunk_step
 
-__all__ = ["Ensemble", "measurement_times", "run_ensemble"]
+__all__ = ["ACTION_MEASURES", "Ensemble", "measurement_times", "run_ensemble"]
+
+#: suffixes of the histograms of J-bar measured with the modulus <|M|>(t) of the ensemble
+#: (the mean field, ''), each realisation's own |M| ('_own') and the state's static M0
+#: ('_static'); every measure in the realisation's own direction of M
+ACTION_MEASURES = ("", "_own", "_static")
 
 
 @njit(fastmath={"contract"}, parallel=True)
@@ -157,6 +165,7 @@ def run_ensemble(
     threads=1,
     progress=None,
     progress_every=10.0,
+    M0_static=None,
 ):
     """Evolve R realisations of N particles drawn from `state` and measure them at `times`.
 
@@ -164,7 +173,9 @@ def run_ensemble(
     increasing edges of the J-bar histogram.  Returns a dict of arrays: 'time' (T,);
     'M_abs', 'M_phase', 'energy', 'momentum' (T, R); 'M0_actions' (T,) the magnetisation
     modulus defining the actions (ensemble mean of |M|); 'hist' (T, R, B) counts of J-bar per
-    bin (particles beyond the last edge are counted in 'overflow' (T, R)).
+    bin (particles beyond the last edge are counted in 'overflow' (T, R)); 'hist_own',
+    'overflow_own' the same with each realisation's own |M|, 'hist_static', 'overflow_static'
+    with the state's M0 (M0_static, default state.M0).
     """
     n_particles, n_realisations = int(n_particles), int(n_realisations)
     if n_particles < 2 or n_realisations < 1:
@@ -190,9 +201,11 @@ def run_ensemble(
         "energy": np.empty((T, R)),
         "momentum": np.empty((T, R)),
         "M0_actions": np.empty(T),
-        "hist": np.zeros((T, R, B), dtype=np.int64),
-        "overflow": np.zeros((T, R), dtype=np.int64),
     }
+    for measure in ACTION_MEASURES:
+        out["hist" + measure] = np.zeros((T, R, B), dtype=np.int64)
+        out["overflow" + measure] = np.zeros((T, R), dtype=np.int64)
+    m_static = float(state.M0 if M0_static is None else M0_static)
     J = np.empty(n_particles)
     Jb = np.empty(n_particles)
     wall0 = last = _time.perf_counter()
@@ -209,11 +222,12 @@ def run_ensemble(
         m0 = float(np.mean(m_abs))
         out["M0_actions"][k] = m0
         for r in range(R):
-            actions(ens.theta[r], ens.p[r], m0, float(phase[r]), (J, Jb))
-            idx = np.searchsorted(edges, Jb, side="right") - 1
-            inside = (idx >= 0) & (idx < B)
-            out["hist"][k, r] = np.bincount(idx[inside], minlength=B)
-            out["overflow"][k, r] = n_particles - int(inside.sum())
+            for measure, m in zip(ACTION_MEASURES, (m0, m_abs[r], m_static), strict=True):
+                actions(ens.theta[r], ens.p[r], float(m), float(phase[r]), (J, Jb))
+                idx = np.searchsorted(edges, Jb, side="right") - 1
+                inside = (idx >= 0) & (idx < B)
+                out["hist" + measure][k, r] = np.bincount(idx[inside], minlength=B)
+                out["overflow" + measure][k, r] = n_particles - int(inside.sum())
         now = _time.perf_counter()
         if now - last >= progress_every or k == T - 1:
             rate = s * n_particles * R / max(now - wall0, 1e-9)

@@ -13,7 +13,13 @@ from ..analysis.relaxation_md import density_from_histogram, entropy_from_histog
 from .layouts import ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL
 from .layouts import variable as _var
 
-__all__ = ["relaxation_md_dataset"]
+__all__ = ["MEASURE_NAMES", "relaxation_md_dataset"]
+
+#: the J-bar measures besides the mean field's (`dynamics.ensemble.ACTION_MEASURES`)
+MEASURE_NAMES = {
+    "_own": "each realisation's own |M| (not the ensemble mean)",
+    "_static": "the initial state's M0 at every time",
+}
 
 
 def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
@@ -141,6 +147,30 @@ def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
             ),
         },
     )
+    for measure, how in MEASURE_NAMES.items():
+        if "hist" + measure not in out:
+            continue
+        h, o = out["hist" + measure], out["overflow" + measure]
+        ds["hist" + measure] = _var(
+            ("t", "realisation", "jbar"),
+            h.astype(np.int32),
+            "1",
+            f"number of particles per J-bar bin, J-bar measured with {how}",
+            valid=(0, n_particles),
+        )
+        ds["overflow" + measure] = _var(
+            ("t", "realisation"),
+            o.astype(np.int32),
+            "1",
+            f"number of particles beyond the last J-bar edge, J-bar measured with {how}",
+            valid=(0, n_particles),
+        )
+        ds["entropy" + measure] = _var(
+            ("t",),
+            entropy_from_histogram(h.sum(axis=1), edges, o.sum(axis=1)),
+            "1",
+            f"coarse-grained entropy of the pooled histogram, J-bar measured with {how}",
+        )
     ds.attrs.update(
         {
             "title": f"N-body relaxation ensemble of case {case} at N = {n_particles}",
