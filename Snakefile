@@ -2,7 +2,7 @@
 #
 #   snakemake -j2                                   # every target, paper size
 #   snakemake -j2 --configfile config/smoke.yaml    # the same pipeline at toy size
-#   snakemake -j2 fig2                              # one figure (fig1 ... fig10)
+#   snakemake -j2 fig2                              # one figure (fig1 ... fig16)
 #
 # Every intermediate is a netCDF file under results/; see README.md.
 
@@ -88,4 +88,5 @@ rule all:
         relaxation_files(),
         relaxation_md_files(),
         relaxation_comparison_outputs(),
+        relaxation_rates_outputs(),
         figure_targets(),

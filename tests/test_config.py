@@ -452,6 +452,8 @@ def _edit(cfg, path, value):
 
 CH2_SIZES = ("relaxation_md", "runs", "corehalo_ch2", "n_particles")
 FIG14 = ("figures", "fig14_spectrum", "cases")
+FIG15 = ("figures", "fig15_scaling", "cases")
+SCALING = ("md_scaling", "studies", "thermal_u-0.1")
 
 
 @pytest.mark.parametrize(
@@ -483,19 +485,32 @@ FIG14 = ("figures", "fig14_spectrum", "cases")
             ["relaxation_md run 'thermal_u-0.1'", "not under relaxation.runs"],
         ),
         (
-            ("md_scaling", "case"),
-            "nonexistent",
-            ["md_scaling: names case 'nonexistent', which is not in 'cases'"],
+            ("md_scaling", "studies", "nonexistent"),
+            {"sizes": [1000], "seeds": 2},
+            ["md_scaling study 'nonexistent': names case 'nonexistent', which is not in 'cases'"],
         ),
         (
-            ("md_scaling", "case"),
-            "twostep_ch",
-            ["md_scaling: case 'twostep_ch': a two-step state has no smooth f"],
+            ("md_scaling", "studies", "twostep_ch"),
+            {"sizes": [1000], "seeds": 2},
+            ["md_scaling study 'twostep_ch': a two-step state has no smooth f"],
         ),
         (
-            ("md_scaling", "case"),
+            FIG15,
+            ["thermal_u-0.1", "thermal_M0.9"],
+            ["figure 'fig15_scaling': case 'thermal_M0.9' has no study under md_scaling.studies"],
+        ),
+        (
+            ("relaxation_rates", "runs", "thermal_M0.9"),
+            {"n_particles": [400]},
+            ["relaxation_rates run 'thermal_M0.9'", "not under relaxation.runs"],
+        ),
+        (
+            ("figures", "fig16_relaxation_rates", "case"),
             "thermal_M0.9",
-            ["md_scaling: field 'case' = 'thermal_M0.9' must name a case under md.runs"],
+            [
+                "figure 'fig16_relaxation_rates': case 'thermal_M0.9' has no run under "
+                "relaxation_rates.runs"
+            ],
         ),
         (
             FIG14,
@@ -528,7 +543,7 @@ _RANGE = re.compile(
         # the ensemble's own particles, no test particles: the tail of ch2* sets the period
         (("relaxation_md", "dt"), 0.45, 0.42, "relaxation_md run 'corehalo_ch2'", 10),
         # the `run` override of the 1/N study: test particles up to kappa_max = 2
-        (("md_scaling", "run", "dt"), 0.2, 0.1, "md_scaling run 'thermal_u-0.1' (bath", 10),
+        ((*SCALING, "run", "dt"), 0.2, 0.1, "md_scaling run 'thermal_u-0.1' (bath", 10),
         # the magnetisation's sampling: the bath's fastest orbit below the Nyquist frequency
         (("md", "m_every"), 1.2, 1.1, "spectrum case 'thermal_u-0.1'", 2),
     ],
@@ -566,13 +581,13 @@ def test_every_block_needs_enough_particles_for_a_mean_field():
     _edit(cfg, CH2_SIZES, [n_min, 400])
     check_config(cfg)
     n_min = math.ceil((10.0 / _thermal_M0(-0.1)) ** 2)
-    cfg["md_scaling"]["sizes"] = [3000, n_min - 1]
+    _edit(cfg, (*SCALING, "sizes"), [3000, n_min - 1])
     _refused(
         cfg,
         f"md_scaling run 'thermal_u-0.1' (bath, N = {n_min - 1}): field 'sizes' = {n_min - 1} "
         f"must be >= {n_min}",
     )
-    cfg["md_scaling"]["sizes"] = [3000, n_min]
+    _edit(cfg, (*SCALING, "sizes"), [3000, n_min])
     check_config(cfg)
 
 
@@ -592,7 +607,7 @@ def test_every_block_needs_enough_particles_for_a_mean_field():
             ["relaxation_md run 'corehalo_ch2': field 'n_particles' = 200 with particles_per"],
         ),
         (
-            ("md_scaling", "sizes"),
+            (*SCALING, "sizes"),
             [1000, 5_000_000],
             ["md_scaling run 'thermal_u-0.1' (bath, N = 5000000): field 'sizes' = 5000000"],
         ),
@@ -618,3 +633,17 @@ def test_every_block_refuses_a_job_beyond_the_machines_memory(monkeypatch, path,
     cfg = copy.deepcopy(SMOKE)
     _edit(cfg, path, value)
     _refused(cfg, *parts, "of memory, more than this machine's 1.07 GiB")
+
+
+def test_relaxation_rates_needs_two_realisations_at_every_size():
+    """The early-window errors are the spread between realisations: one is refused, naming
+    the size and the largest N that particles_per_size allows."""
+    cfg = copy.deepcopy(SMOKE)
+    _edit(cfg, ("relaxation_rates", "runs", "corehalo_ch2", "n_particles"), [200, 1000])
+    _refused(
+        cfg,
+        "relaxation_rates run 'corehalo_ch2': field 'n_particles' = 1000 leaves 1 realisation(s)",
+        "need N <= particles_per_size / 2",
+    )
+    _edit(cfg, ("relaxation_rates", "runs", "corehalo_ch2", "n_particles"), [200, 800])
+    check_config(cfg)

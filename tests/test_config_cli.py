@@ -244,10 +244,22 @@ BAD = [
         ["relaxation run 'corehalo_ch2': unknown field 'n_node'", "did you mean 'n_nodes'"],
     ),
     (
-        "md_scaling_not_md",
-        edited(md_scaling__case="thermal_M0.9"),
+        "md_scaling_single_case_form",
+        edited(md_scaling={"case": "thermal_u-0.1", "sizes": [1000], "seeds": 2}),
         [],
-        ["md_scaling: field 'case' = 'thermal_M0.9'", "must name a case under md.runs"],
+        ["md_scaling: field 'case' is now called 'studies", "{studies: {<case>:"],
+    ),
+    (
+        "md_scaling_one_seed",
+        edited(**{"md_scaling__studies__thermal_u-0.1__seeds": 1}),
+        [],
+        ["md_scaling.studies.thermal_u-0.1: field 'seeds' = 1 must be an integer >= 2"],
+    ),
+    (
+        "md_scaling_seeds_per_size",
+        edited(**{"md_scaling__studies__thermal_u-0.1__seeds": [2, 2, 2]}),
+        [],
+        ["md_scaling study 'thermal_u-0.1': field 'seeds' = [2, 2, 2]", "one such per size"],
     ),
     (
         "spectrum_not_md",

@@ -162,3 +162,161 @@ def test_fig14_theory_is_drawn_over_the_points_in_another_colour(drawn):
                 assert to_rgba(ln.get_color()) != to_rgba(m.get_color()), ax.get_title()
                 assert ln.get_zorder() > m.get_zorder(), ax.get_title()
         assert ax.get_legend() is None, "legend on the data"  # one legend, under the panels
+
+
+# ---- figure 15: N D against N with the bin-averaged theory (issue 21) ---------------------
+#: the kinetic equation each dynamics measures, written out here (not read from the library)
+OWN = {"bath": "landau", "full": "lenard_balescu"}
+OTHER = {"bath": "lenard_balescu", "full": "landau"}
+
+
+@pytest.fixture(scope="module")
+def scaling(tmp_path_factory):
+    """{(case, dynamics): (scaling dataset, [fit per N], theory, f)} of figure 15's smoke cases,
+    and the smoke results folder."""
+    from hmfdiff.pipeline.layouts import state_from_dataset
+
+    workdir = smoke_workdir(tmp_path_factory)
+    results = workdir / "results" / "smoke"
+    spec = yaml.safe_load((workdir / SMOKE).read_text())["figures"]["fig15_scaling"]
+    out = {}
+    for case in spec["cases"]:
+        theory = read_dataset(results / f"theory/{case}.nc")
+        f = state_from_dataset(read_dataset(results / f"equilibrium/{case}.nc")).f
+        for dyn in ("bath", "full"):
+            ds = read_dataset(results / f"scaling/{case}_{dyn}.nc")
+            fits = [
+                read_dataset(results / f"scaling/{case}/{dyn}/N{n}/fit.nc") for n in ds["N"].values
+            ]
+            out[(case, dyn)] = (ds, fits, theory, f)
+    return out, results
+
+
+def test_fig15_theory_is_the_bin_average_of_each_dynamics_at_each_N(scaling):
+    """ND_theory of the scaling file is the theory of its dynamics (Landau for MD(bath),
+    Lenard-Balescu for MD(full)), ND_theory_other the other one, each averaged over the bin
+    with the tracked density of that N's runs: recomputed from the fit of each N, and for
+    MD(bath) (uniform test particles at every N) equal to validation.csv's ND_theory of the
+    same case and bins.  A bin-centre value or the wrong equation fails it."""
+    import csv
+
+    from hmfdiff.analysis.fits import theory_at_bins, theory_bin_average
+
+    sets, results = scaling
+    with open(results / "validation.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    differs_from_centre, cross_checked = [], []
+    for (case, dyn), (ds, fits, theory, f) in sets.items():
+        assert ds["ND_theory"].attrs["equation"] == OWN[dyn]
+        assert ds["ND_theory_other"].attrs["equation"] == OTHER[dyn]
+        assert [int(x.attrs["N"]) for x in fits] == ds["N"].values.tolist()
+        for i, fit in enumerate(fits):
+            for var, eq in (("ND_theory", OWN[dyn]), ("ND_theory_other", OTHER[dyn])):
+                expected = theory_bin_average(theory, fit, f, equation=eq)
+                np.testing.assert_allclose(ds[var].values[i], expected, rtol=1e-12, err_msg=var)
+            centre = theory_at_bins(theory, ds["kappa0"].values, dyn, OWN[dyn])
+            ok = np.isfinite(centre) & np.isfinite(ds["ND_theory"].values[i])
+            differs_from_centre.append(
+                np.max(np.abs(ds["ND_theory"].values[i][ok] / centre[ok] - 1)) > 1e-3
+            )
+        val = [r for r in rows if r["case"] == case and r["dynamics"] == "bath"]
+        if dyn == "bath" and len(val) == ds.sizes["bin"]:  # an MD case with the same bins
+            got = np.array([float(r["ND_theory"]) for r in val])
+            for i in range(ds.sizes["N"]):
+                np.testing.assert_allclose(ds["ND_theory"].values[i], got, rtol=1e-5)
+            cross_checked.append(case)
+    assert any(differs_from_centre), "the theory is not averaged over the bins"
+    assert cross_checked, "no study to compare with validation.csv"
+
+
+def test_fig15_draws_both_theories_in_every_drawn_bin_and_its_legend_off_the_data(drawn, scaling):
+    """Each panel (rows: studies; columns: MD(bath), MD(full)) has, per drawn bin, the MD
+    points, a solid line through ND_theory (the theory of the panel's dynamics) and a dashed
+    one through ND_theory_other, both over N; the bins named by kappa0 are those drawn; axes
+    carry units; the legends lie outside every panel."""
+    figure = drawn["fig15_scaling"]
+    sets, results = scaling
+    spec = yaml.safe_load((results.parents[1] / SMOKE).read_text())
+    axes = main_axes(figure)
+    keys = [(case, dyn) for case in spec["figures"]["fig15_scaling"]["cases"] for dyn in OWN]
+    assert len(axes) == len(keys)
+    for ax, key in zip(axes, keys, strict=True):
+        ds = sets[key][0]
+        bins = np.flatnonzero(ds["drawn"].values)
+        assert bins.size >= 1, key
+        kappa0 = spec["md_scaling"]["studies"][key[0]].get("kappa0")
+        if kappa0:
+            k = ds["kappa0"].values
+            assert sorted(bins) == sorted({int(np.argmin(np.abs(k - t))) for t in kappa0})
+        assert len(ax.containers) == bins.size, key  # one errorbar (MD points) per bin
+        N = ds["N"].values
+        for ls, var in (("-", "ND_theory"), ("--", "ND_theory_other")):
+            lines = [
+                ln for ln in ax.get_lines() if ln.get_linestyle() == ls and len(ln.get_xdata())
+            ]
+            for b in bins:
+                y = ds[var].values[:, b]
+                assert any(
+                    np.array_equal(ln.get_xdata(), N)
+                    and np.allclose(ln.get_ydata(), y, rtol=1e-12, equal_nan=True)
+                    for ln in lines
+                ), (key, var, float(ds["kappa0"][b]))
+        assert "HMF units" in ax.get_ylabel() and "$N$" in ax.get_xlabel()
+        assert ax.get_xscale() == ax.get_yscale() == "log"
+    figure.canvas.draw()
+    boxes = [ax.get_window_extent() for ax in axes]
+    legends = [ax.get_legend() for ax in axes if ax.get_legend()] + list(figure.legends)
+    assert legends
+    for leg in legends:
+        assert not any(leg.get_window_extent().overlaps(b) for b in boxes), "legend on the data"
+    caption = FIGURES["fig15_scaling"].caption
+    for word in ("Landau", "Lenard-Balescu", "bin", "dashed", "solid"):
+        assert word in caption, word
+
+
+# ---- figure 16: the N-body relaxation rate against N (issue 21) -----------------------------
+def test_fig16_draws_the_file_values_and_both_equations(drawn, tmp_path_factory):
+    """Panels (b)-(d) of figure 16 draw, at each N, the N-body value of the files (state and
+    thermal control) and each kinetic equation's value as a horizontal line: the window rates
+    of results/relaxation_rates/{case}.nc and 1/tau_R^coarse of relaxation_comparison."""
+    workdir = smoke_workdir(tmp_path_factory)
+    spec = yaml.safe_load((workdir / SMOKE).read_text())["figures"]["fig16_relaxation_rates"]
+    results = workdir / "results" / "smoke"
+    rates = read_dataset(results / f"relaxation_rates/{spec['case']}.nc")
+    comparison = read_dataset(results / f"relaxation_comparison/{spec['case']}.nc")
+    axes = main_axes(drawn["fig16_relaxation_rates"])
+    assert len(axes) == 4
+
+    def horizontal(ax):
+        return sorted(
+            float(ln.get_ydata()[0])
+            for ln in ax.get_lines()
+            if ln.get_marker() in ("None", "", None)
+            and len(set(np.ravel(ln.get_ydata()))) == 1
+            and float(ln.get_ydata()[0]) != 0.0
+        )
+
+    def points(ax):
+        return sorted(
+            float(y)
+            for ln in ax.get_lines()
+            if ln.get_marker() in ("o", "s")
+            for y in ln.get_ydata()
+            if np.isfinite(y)
+        )
+
+    def finite(values):
+        return sorted(float(v) for v in np.ravel(values) if np.isfinite(v))
+
+    for ax, key in ((axes[1], "entropy_rate"), (axes[2], "current")):
+        expect = finite([float(rates[f"{key}_{eq}"]) for eq in ("landau", "lenard_balescu")])
+        np.testing.assert_allclose(horizontal(ax), expect, rtol=1e-12)
+        np.testing.assert_allclose(points(ax), finite(rates[f"{key}_md"].values), rtol=1e-12)
+    expect = finite(
+        [1.0 / float(comparison[f"tau_relax_coarse_{eq}"]) for eq in ("landau", "lenard_balescu")]
+    )
+    np.testing.assert_allclose(horizontal(axes[3]), expect, rtol=1e-12)
+    n = comparison["N"].values
+    np.testing.assert_allclose(
+        points(axes[3]), finite(n / comparison["t_relax_md"].values), rtol=1e-12
+    )

@@ -294,7 +294,7 @@ PHYSICAL_RANGES = {
         "D_lenard_balescu_closed": NONNEG,
         "M0": (0, 1),
     },
-    r"(md/[^/]+/[^/]+|scaling/[^/]+/[^/]+/N\d+)/seed\d+\.nc": {
+    r"(md/[^/]+/[^/]+|scaling/[^/]+/[^/]+/N\d+/seeds)/seed\d+\.nc": {
         **dict.fromkeys(["sum_dJ2", "sum_dJbar2", "sum_dJ2_block", "sum_dJbar2_block"], NONNEG),
         **dict.fromkeys(
             ["count", "count_block", "n_particles_in_bin", "n_origins_in_block"], NONNEG
@@ -312,8 +312,10 @@ PHYSICAL_RANGES = {
     },
     r"scaling/[^/]+_(bath|full)\.nc": {
         **dict.fromkeys(["ND_md_err", "n_particles_in_bin", "kappa0", "jbar0"], NONNEG),
+        **dict.fromkeys(["ND_theory", "ND_theory_other"], NONNEG),
         "M0": (0, 1),
-        "N": (1, None),
+        "drawn": (0, 1),
+        **dict.fromkeys(["N", "n_seeds"], (1, None)),
         "flag": (0, 3),
     },
     r"windowed/[^/]+\.nc": dict.fromkeys(["ND_spectrum", "jbar0", "kappa0"], NONNEG),

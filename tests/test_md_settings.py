@@ -201,31 +201,71 @@ def test_precision_settings_and_their_derived_counts():
 
 
 def test_md_scaling_runs():
-    from hmfdiff.dynamics.runs import md_scaling_runs
+    """One record per (study, dynamics, N): the md section's settings, the case's own under
+    md.runs (if any), then the study's `run`; seeds one per size or a list; bad input refused
+    in one line naming the study and the field."""
+    from hmfdiff.dynamics.runs import md_scaling_runs, scaling_kappa0
 
     runs = md_scaling_runs(SMOKE)
-    sc = SMOKE["md_scaling"]
-    assert set(runs) == {(d, n) for d in ("bath", "full") for n in sc["sizes"]}
-    for (dyn, n), run in runs.items():
-        assert run.n_particles == n and run.seeds == sc["seeds"] and run.dynamics == dyn
-        for k, v in sc["run"].items():
+    studies = SMOKE["md_scaling"]["studies"]
+    assert len(studies) >= 2  # the smoke config exercises several studies
+    assert set(runs) == {
+        (c, d, n) for c, st in studies.items() for d in ("bath", "full") for n in st["sizes"]
+    }
+    for (case, dyn, n), run in runs.items():
+        st = studies[case]
+        seeds = st["seeds"][st["sizes"].index(n)] if isinstance(st["seeds"], list) else st["seeds"]
+        assert run.n_particles == n and run.seeds == seeds and run.dynamics == dyn
+        assert run.n_test == SMOKE["md"][f"n_test_{dyn}"]
+        for k, v in st["run"].items():
             if k == "n_track":
-                assert run.n_track == (min(v, n) if dyn == "full" else v)
+                assert run.n_track == min(v, n), k
             else:
                 assert getattr(run, k) == (tuple(v) if isinstance(v, list) else v), k
+    assert any(isinstance(st["seeds"], list) for st in studies.values())
     assert md_scaling_runs({k: v for k, v in SMOKE.items() if k != "md_scaling"}) == {}
+    assert scaling_kappa0(SMOKE) == {c: st.get("kappa0") for c, st in studies.items()}
+    # a case need not be under md.runs; its own settings there apply when it is
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md_scaling"]["studies"] = {"thermal_M0.9": {"sizes": [2000], "seeds": 2}}
+    assert md_scaling_runs(cfg)[("thermal_M0.9", "bath", 2000)].t_max == SMOKE["md"]["t_max"]
+    cfg["md"]["runs"]["thermal_M0.9"] = {"n_particles": 10, "t_max": 50.0}
+    cfg["md_scaling"]["studies"]["thermal_M0.9"]["run"] = {"n_test_bath": 300}
+    run = md_scaling_runs(cfg)[("thermal_M0.9", "bath", 2000)]
+    assert (run.t_max, run.n_particles, run.n_test) == (50.0, 2000, 300)
     # a tracked subset larger than the smallest N tracks all of that N
     cfg = copy.deepcopy(SMOKE)
-    cfg["md_scaling"]["run"]["n_track"] = 2000
+    cfg["md_scaling"]["studies"]["thermal_u-0.1"]["run"]["n_track"] = 2000
     clipped = md_scaling_runs(cfg)
-    assert clipped[("full", 1000)].n_track == 1000 and clipped[("full", 3000)].n_track == 2000
+    assert clipped[("thermal_u-0.1", "full", 1000)].n_track == 1000
+    assert clipped[("thermal_u-0.1", "full", 3000)].n_track == 2000
+    w = r"md_scaling study 'thermal_u-0.1': "
     for edit, match in (
-        ({"case": "twostep_ch"}, r"md_scaling: field 'case' = 'twostep_ch' must name a case"),
-        ({"sizes": [1000, 1000]}, r"md_scaling: field 'sizes' = \[1000, 1000\] must be distinct"),
-        ({"run": {"tmax": 3}}, r"md_scaling: unknown field\(s\) \['tmax'\] under 'run'"),
-        ({"extra": 1}, r"md_scaling: unknown field\(s\) \['extra'\]"),
+        ({"sizes": [1000, 1000]}, w + r"field 'sizes' = \[1000, 1000\] must be distinct"),
+        ({"seeds": 1}, w + r"field 'seeds' = 1 must be an integer >= 2 .* \(2 sizes\)"),
+        ({"seeds": [3, 2, 2]}, w + r"field 'seeds' = \[3, 2, 2\] must be .* one such per size"),
+        ({"run": {"tmax": 3}}, w + r"unknown field\(s\) \['tmax'\] under 'run'"),
+        ({"run": {"seeds": 3}}, w + r"field\(s\) \['seeds'\] under 'run' are set by the study"),
+        ({"extra": 1}, w + r"unknown field\(s\) \['extra'\]"),
     ):
         cfg = copy.deepcopy(SMOKE)
-        cfg["md_scaling"].update(edit)
+        cfg["md_scaling"]["studies"]["thermal_u-0.1"].update(edit)
         with pytest.raises(ConfigError, match=match):
             md_scaling_runs(cfg)
+    for studies_edit, match in (
+        ({"twostep_ch": {"sizes": [1000], "seeds": 2}}, r"study 'twostep_ch': a two-step"),
+        ({"nonexistent": {"sizes": [1000], "seeds": 2}}, r"names case 'nonexistent', which is not"),
+    ):
+        cfg = copy.deepcopy(SMOKE)
+        cfg["md_scaling"]["studies"].update(studies_edit)
+        with pytest.raises(ConfigError, match=match):
+            md_scaling_runs(cfg)
+    # the single-case form of before is refused, saying what to write instead
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md_scaling"] = {"case": "thermal_u-0.1", "sizes": [1000], "seeds": 2}
+    with pytest.raises(ConfigError, match=r"md_scaling: unknown field\(s\) .*studies: \{<case>"):
+        md_scaling_runs(cfg)
+    cfg = copy.deepcopy(SMOKE)
+    cfg["md_scaling"]["studies"]["corehalo_ch2"]["kappa0"] = [0.4, -1]
+    with pytest.raises(ConfigError, match=r"study 'corehalo_ch2': field 'kappa0' = \[0.4, -1\]"):
+        scaling_kappa0(cfg)

@@ -154,35 +154,38 @@ rule spectrum:
 
 
 rule md_scaling:
-    """One MD realisation of the 1/N study (config md_scaling) at N = {n}."""
+    """Every MD realisation of one size N = {n} of the 1/N study of {case} (config md_scaling),
+    seed after seed in one job: at small N a realisation takes less than starting a job.
+    """
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         kernels=KERNELS,
-        lib=lib("md.py"),
+        lib=lib("md_scaling.py"),
     output:
-        f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/seed{{seed}}.nc",
+        directory(f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/seeds"),
     log:
-        f"{LOG}/scaling/{{case}}/{{dynamics}}/N{{n}}/seed{{seed}}.log",
+        f"{LOG}/scaling/{{case}}/{{dynamics}}/N{{n}}/md.log",
     wildcard_constraints:
         dynamics="bath|full",
         n=r"\d+",
-        seed=r"\d+",
     conda:
         "../envs/hmfdiff.yaml"
-    threads: lambda w: scaling_run(w.dynamics, w.n).threads
+    threads: lambda w: scaling_run(w.case, w.dynamics, w.n).threads
     resources:
-        mem_mb=lambda w: scaling_run(w.dynamics, w.n).memory_mb(),
-        runtime=lambda w: scaling_run(w.dynamics, w.n).runtime_min(),
+        mem_mb=lambda w: scaling_run(w.case, w.dynamics, w.n).memory_mb(),
+        runtime=lambda w: scaling_run(w.case, w.dynamics, w.n).seeds
+        * scaling_run(w.case, w.dynamics, w.n).runtime_min(),
     params:
-        run=lambda w: scaling_run(w.dynamics, w.n).realisation_json(),
+        run=lambda w: scaling_run(w.case, w.dynamics, w.n).realisation_json(),
+        seeds=lambda w: scaling_run(w.case, w.dynamics, w.n).seeds,
     script:
-        "../scripts/md.py"
+        "../scripts/md_scaling.py"
 
 
 rule fit_scaling:
     """N*D_MD per bin at one N of the 1/N study, pooled over its seeds."""
     input:
-        seeds=lambda w: scaling_files(w.case, w.dynamics, w.n),
+        seeds=f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/seeds",
         lib=lib("fit.py"),
     output:
         f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/fit.nc",
@@ -199,18 +202,24 @@ rule fit_scaling:
         runtime=15,
     params:
         fit=lambda w: json.dumps(
-            scaling_run(w.dynamics, w.n).fit_settings(), sort_keys=True
+            scaling_run(w.case, w.dynamics, w.n).fit_settings(), sort_keys=True
         ),
+        n_seeds=lambda w: scaling_run(w.case, w.dynamics, w.n).seeds,
     script:
         "../scripts/fit.py"
 
 
 rule scaling:
-    """results/scaling/{case}_{dynamics}.nc: N*D_MD per bin against N (figure 15)."""
+    """results/scaling/{case}_{dynamics}.nc: N*D_MD per bin against N (figure 15), beside the
+    theory of the dynamics and the other one, bin-averaged like validation.csv's ND_theory.
+    """
     input:
         fits=lambda w: [
-            f"{RES}/scaling/{w.case}/{w.dynamics}/N{n}/fit.nc" for n in scaling_sizes()
+            f"{RES}/scaling/{w.case}/{w.dynamics}/N{n}/fit.nc"
+            for n in scaling_sizes(w.case)
         ],
+        theory=f"{RES}/theory/{{case}}.nc",
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         lib=lib("scaling.py"),
     output:
         f"{RES}/scaling/{{case}}_{{dynamics}}.nc",
@@ -225,6 +234,7 @@ rule scaling:
         mem_mb=1000,
         runtime=10,
     params:
-        sizes=lambda w: scaling_sizes(),
+        sizes=lambda w: scaling_sizes(w.case),
+        kappa0=lambda w: SCALING_KAPPA0[w.case],
     script:
         "../scripts/scaling.py"

@@ -2,10 +2,12 @@
 # One MDRun record per (case, dynamics), built once from the config's md section (defaults
 # merged with each case's overrides); every md/fit rule setting below is read from it.
 from hmfdiff.dynamics.kernel_cache import kernel_version
-from hmfdiff.dynamics.runs import md_runs, md_scaling_runs
+from hmfdiff.dynamics.runs import md_runs, md_scaling_runs, scaling_kappa0
 
 MD_RUNS = md_runs(config)
-MD_SCALING = md_scaling_runs(config)  # {(dynamics, N): MDRun} of the 1/N study, or {}
+# {(case, dynamics, N): MDRun} of the 1/N studies, or {}
+MD_SCALING = md_scaling_runs(config)
+SCALING_KAPPA0 = scaling_kappa0(config)  # {case: bins figure 15 draws (kappa0) or None}
 # the shared numba cache of the MD kernels of this version of the dynamics sources
 KERNELS = f"{RES}/kernels/{kernel_version()}"
 
@@ -38,15 +40,11 @@ def md_runtime_min(case, dynamics):
     return md_run(case, dynamics).runtime_min()
 
 
-def scaling_run(dynamics, n):
-    """The MDRun record of the 1/N study at N = n."""
-    return MD_SCALING[(dynamics, int(n))]
+def scaling_run(case, dynamics, n):
+    """The MDRun record of the 1/N study of `case` at N = n."""
+    return MD_SCALING[(case, dynamics, int(n))]
 
 
-def scaling_sizes():
-    return sorted({n for _, n in MD_SCALING})
-
-
-def scaling_files(case, dynamics, n):
-    seeds = scaling_run(dynamics, n).seeds
-    return [f"{RES}/scaling/{case}/{dynamics}/N{n}/seed{s}.nc" for s in range(seeds)]
+def scaling_sizes(case):
+    """The sizes of the 1/N study of `case`, increasing."""
+    return sorted({n for c, _, n in MD_SCALING if c == case})

@@ -17,6 +17,7 @@ rule relaxation_md:
         runtime=lambda w: relaxation_md_runtime_min(w.case, w.n),
     params:
         run=lambda w: relaxation_md_run(w.case),
+        initial="state",
     script:
         "../scripts/relaxation_md.py"
 
@@ -41,3 +42,48 @@ rule relaxation_comparison:
         cases=relaxation_md_cases(),
     script:
         "../scripts/relaxation_comparison.py"
+
+
+rule relaxation_rates_md:
+    """An ensemble over the early window, drawn from the case's state or from the thermal state
+    of its energy (the control), at one N."""
+    input:
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
+        lib=lib("relaxation_md.py"),
+    output:
+        f"{RES}/relaxation_rates/{{case}}/{{initial}}/N{{n}}.nc",
+    log:
+        f"{LOG}/relaxation_rates/{{case}}/{{initial}}/N{{n}}.log",
+    wildcard_constraints:
+        n=r"\d+",
+        initial="state|thermal",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: lambda w: config["relaxation_md"]["threads"]
+    resources:
+        mem_mb=2000,
+        runtime=lambda w: relaxation_rates_runtime_min(w.n),
+    params:
+        run=lambda w: relaxation_rates_run(),
+        initial=lambda w: w.initial,
+    script:
+        "../scripts/relaxation_md.py"
+
+
+rule relaxation_rates:
+    """Early N-body relaxation across N against the kinetic equations and the thermal control."""
+    input:
+        unpack(relaxation_rates_inputs),
+    output:
+        dataset=f"{RES}/relaxation_rates/{{case}}.nc",
+        summary=f"{RES}/relaxation_rates/{{case}}_summary.txt",
+    log:
+        f"{LOG}/relaxation_rates/{{case}}.log",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=15,
+    script:
+        "../scripts/relaxation_rates.py"

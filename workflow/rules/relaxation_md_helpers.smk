@@ -52,3 +52,51 @@ def relaxation_comparison_outputs():
         f"{RES}/relaxation_comparison.csv",
         f"{RES}/relaxation_comparison_summary.txt",
     ] + [f"{RES}/relaxation_comparison/{c}.nc" for c in cases]
+
+
+def relaxation_rates_cases():
+    return sorted((config.get("relaxation_rates") or {}).get("runs", {}))
+
+
+def relaxation_rates_sizes(case):
+    return list(config["relaxation_rates"]["runs"][case]["n_particles"])
+
+
+def relaxation_rates_run():
+    """The early-window ensemble settings: relaxation_md's time step, bins and threads with
+    relaxation_rates' window, schedule, sizes and seed, as JSON."""
+    run = {k: v for k, v in config["relaxation_md"].items() if k != "runs"}
+    run.update({k: v for k, v in config["relaxation_rates"].items() if k != "runs"})
+    return json.dumps(run, sort_keys=True)
+
+
+def relaxation_rates_runtime_min(n):
+    rr = json.loads(relaxation_rates_run())
+    steps = rr["particles_per_size"] * rr["tau_max"] * int(n) / rr["dt"]
+    return int(10 + steps / 1e8 / 60 * 2)
+
+
+def relaxation_rates_ensembles(case):
+    return [
+        f"{RES}/relaxation_rates/{case}/{initial}/N{n}.nc"
+        for initial in ("state", "thermal")
+        for n in relaxation_rates_sizes(case)
+    ]
+
+
+def relaxation_rates_inputs(wildcards):
+    equations = config.get("relaxation", {}).get("equations", [])
+    return {
+        "md": relaxation_rates_ensembles(wildcards.case),
+        "kinetic": [f"{RES}/relaxation/{wildcards.case}_{e}.nc" for e in equations],
+        "equilibrium": f"{RES}/equilibrium/{wildcards.case}.nc",
+        "lib": lib("relaxation_rates.py"),
+    }
+
+
+def relaxation_rates_outputs():
+    return [
+        f"{RES}/relaxation_rates/{c}{suffix}"
+        for c in relaxation_rates_cases()
+        for suffix in (".nc", "_summary.txt")
+    ]

@@ -1,5 +1,7 @@
-"""Rule relaxation_md: an ensemble of N-body relaxations of one case at one N
-(results/relaxation_md/{case}/N{N}.nc)."""
+"""Rules relaxation_md and relaxation_rates_md: an ensemble of N-body relaxations of one case
+at one N (results/relaxation_md/{case}/N{N}.nc), or of its initial state or the thermal state
+of the same energy over the early window (results/relaxation_rates/{case}/{initial}/N{N}.nc).
+The J-bar bins are the case's in both, so that the thermal control is binned as the state."""
 
 import json
 
@@ -7,6 +9,7 @@ import numpy as np
 
 from hmfdiff.dynamics.ensemble import measurement_times, run_ensemble
 from hmfdiff.meanfield import orbits
+from hmfdiff.meanfield.equilibrium import ThermalState
 from hmfdiff.pipeline.io import read_dataset, write_dataset
 from hmfdiff.pipeline.layouts import state_from_dataset
 from hmfdiff.pipeline.relaxation_layouts import relaxation_md_dataset
@@ -17,6 +20,8 @@ log = get_logger("relaxation_md", sm.log[0])
 run = json.loads(sm.params.run)
 threads = set_threads(sm.threads)
 state = state_from_dataset(read_dataset(sm.input.equilibrium, required=["M0"]))
+initial = getattr(sm.params, "initial", "state")
+drawn = ThermalState(u=state.u) if initial == "thermal" else state
 n = int(sm.wildcards.n)
 n_real = max(1, run["particles_per_size"] // n)
 t_max = run["tau_max"] * n
@@ -25,8 +30,11 @@ edges = np.linspace(
     0.0, float(orbits.rescaled_action(run["kappa_max"], state.M0)), run["n_bins"] + 1
 )
 log.info(
-    "case %s: N = %d, R = %d realisations, t_max = %.6g (tau = %.3g), dt = %g, threads = %d",
+    "case %s (%s, M0 = %.6f): N = %d, R = %d realisations, t_max = %.6g (tau = %.3g), dt = %g, "
+    "threads = %d",
     sm.wildcards.case,
+    "thermal state of its energy" if initial == "thermal" else "its state",
+    drawn.M0,
     n,
     n_real,
     t_max,
@@ -35,7 +43,7 @@ log.info(
     threads,
 )
 out = run_ensemble(
-    state,
+    drawn,
     n_particles=n,
     n_realisations=n_real,
     dt=run["dt"],
@@ -45,6 +53,9 @@ out = run_ensemble(
     threads=threads,
     progress=log.info,
 )
-ds = relaxation_md_dataset(out, edges, case=sm.wildcards.case, state=state, n_particles=n, run=run)
-write_dataset(ds, sm.output[0], {"relaxation_md": run, "N": n}, case=sm.wildcards.case)
+ds = relaxation_md_dataset(out, edges, case=sm.wildcards.case, state=drawn, n_particles=n, run=run)
+ds.attrs["initial"] = initial
+write_dataset(
+    ds, sm.output[0], {"relaxation_md": run, "N": n, "initial": initial}, case=sm.wildcards.case
+)
 log.info("wrote %s (%.1f s)", sm.output[0], out["wall_time_s"])

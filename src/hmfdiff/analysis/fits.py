@@ -27,7 +27,9 @@ __all__ = [
     "VALIDATION_FLAGS",
     "fit_slope",
     "diffusion_fit",
+    "THEORY_OF",
     "theory_at_bins",
+    "theory_bin_average",
     "validation_rows",
 ]
 
@@ -208,13 +210,18 @@ def diffusion_fit(datasets, window, min_particles=200, separatrix_band=0.02):
     )
 
 
-def theory_at_bins(theory, kappa0, dynamics):
-    """N*D of the theory at kappa0: Landau for MD(bath), Lenard-Balescu for MD(full).
+#: the kinetic equation whose D each dynamics measures: bare for MD(bath), dressed for MD(full)
+THEORY_OF = {"bath": "landau", "full": "lenard_balescu"}
+
+
+def theory_at_bins(theory, kappa0, dynamics, equation=None):
+    """N*D of the theory at kappa0: Landau for MD(bath), Lenard-Balescu for MD(full), or the
+    `equation` ('landau', 'lenard_balescu') named.
 
     Interpolates log(N D) linearly in kappa on the theory grid within each orbit family; NaN in
     the masked separatrix band or outside the grid.
     """
-    name = {"bath": "D_landau", "full": "D_lenard_balescu"}[dynamics]
+    name = f"D_{equation or THEORY_OF[dynamics]}"
     k = theory["kappa"].values
     D = theory[name].values
     out = np.full(np.shape(kappa0), np.nan)
@@ -256,20 +263,21 @@ def tracked_density(jbar, fit, f_of_kappa):
     return rho
 
 
-def theory_bin_average(theory, fit, f_of_kappa, n_sub=41):
+def theory_bin_average(theory, fit, f_of_kappa, n_sub=41, equation=None):
     """N*D of the theory averaged over each J-bar_0 bin with the density of tracked particles.
 
     The MD measures the mean of dJ^2 over the particles of a bin, i.e. the density-weighted
     average of D over the bin; where D has narrow structure (weakly damped modes, steps of the
     resonance staircase) this differs from D at the bin centre.  NaN for bins that reach into
-    the masked separatrix band or beyond the theory grid.
+    the masked separatrix band or beyond the theory grid.  The theory is that of the fit's
+    dynamics (`THEORY_OF`) unless `equation` names the other, averaged with the same density.
     """
     edges = fit["jbar_edges"].values
     M0 = float(fit["M0"])
     out = np.full(edges.size - 1, np.nan)
     for i, (a, b) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
         jb = np.linspace(a, b, n_sub + 2)[1:-1]
-        D = theory_at_bins(theory, kappa_of_jbar(jb, M0), fit.attrs["dynamics"])
+        D = theory_at_bins(theory, kappa_of_jbar(jb, M0), fit.attrs["dynamics"], equation)
         w = tracked_density(jb, fit, f_of_kappa)
         if np.all(np.isfinite(D)) and w.sum() > 0:
             out[i] = np.sum(D * w) / np.sum(w)

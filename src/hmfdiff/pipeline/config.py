@@ -16,9 +16,10 @@ is allowed:
    settings (`hmfdiff.dynamics.runs.md_runs`: whole multiples of dt, ...), its memory
    estimate against this machine's, figures naming existing cases of the right kind.  The
    same checks (`check_smooth_case`, `check_time_step`, `check_particle_number`,
-   `check_memory`) guard every block that runs dynamics: md.runs, md_scaling (each size),
-   relaxation (smooth case, memory), relaxation_md (smooth case also under relaxation.runs,
-   dt, each N, memory) and the spectrum of every case a figure draws it for (an MD case, the
+   `check_memory`) guard every block that runs dynamics: md.runs, md_scaling (each study and
+   size), relaxation (smooth case, memory), relaxation_md (smooth case also under
+   relaxation.runs, dt, each N, memory), relaxation_rates (the same, two realisations at least
+   at each N) and the spectrum of every case a figure draws it for (an MD case, the
    magnetisation stored every m_every <= half the fastest orbital period, memory).
 
 `python -m hmfdiff.pipeline.config FILE...` checks config files outside Snakemake.
@@ -34,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.runs import md_runs, md_scaling_runs
+from ..dynamics.runs import md_runs, md_scaling_runs, scaling_kappa0
 from ..errors import ConfigError
 from .schema import apply_schema, load_schema, load_yaml_file
 
@@ -236,17 +237,16 @@ def _check_md_memory(runs):
 
 
 def _check_md_scaling(config, states):
-    """The 1/N study: its case smooth and under md.runs (`md_scaling_runs`), and at every size
-    the checks of an MD run (dt with the `run` overrides, N, memory)."""
-    sc = config.get("md_scaling")
-    if not sc:
-        return
-    check_smooth_case(config, "md_scaling", sc["case"], "the 1/N study of MD")
-    for (dynamics, n), run in md_scaling_runs(config).items():
-        where = f"md_scaling run '{sc['case']}' ({dynamics}, N = {n})"
+    """The 1/N studies: each case smooth (`md_scaling_runs`), at every size the checks of an
+    MD run (dt with the `run` overrides, N, memory), and the cases that a figure draws the
+    study of (its registry entry has 'scaling_*' inputs) are studies."""
+    runs = md_scaling_runs(config)
+    scaling_kappa0(config)  # its shape, before any job
+    for (case, dynamics, n), run in runs.items():
+        where = f"md_scaling run '{case}' ({dynamics}, N = {n})"
         check_run_physics(
             where,
-            states[sc["case"]],
+            states[case],
             dt=run.dt,
             n_particles=n,
             kappa_test=run.kappa_max,
@@ -254,6 +254,13 @@ def _check_md_scaling(config, states):
         )
         what = f"field 'sizes' = {n!r} with n_test = {run.n_test!r}"
         check_memory(where, run.memory_mb() * 1e6, what)
+    studies = {case for case, _, _ in runs}
+    for case, fig in _cases_of_kind(config, "scaling_").items():
+        if case not in studies:
+            raise ConfigError(
+                f"figure '{fig}': case '{case}' has no study under md_scaling.studies "
+                f"(studies: {sorted(studies)})"
+            )
 
 
 # ---- spectrum of the magnetisation ------------------------------------------------------
@@ -265,13 +272,20 @@ SAMPLES_PER_FASTEST_PERIOD = 2
 def spectrum_cases(config):
     """{case: figure} of every case whose magnetisation spectrum a figure of the config draws
     (its registry entry has 'spectrum' inputs)."""
+    return _cases_of_kind(config, "spectrum", exact=True)
+
+
+def _cases_of_kind(config, kind, exact=False):
+    """{case: figure} of every case that a figure of the config draws inputs of `kind` for
+    (kinds starting with `kind`, or equal to it if `exact`)."""
     from ..analysis.figures.registry import FIGURES
 
     out = {}
     for fig, spec in config["figures"].items():
         if fig in FIGURES:
             for inp in FIGURES[fig].inputs:
-                if inp.kind != "spectrum":
+                match = inp.kind == kind if exact else inp.kind.startswith(kind)
+                if not match:
                     continue
                 try:
                     out.update({c: fig for c in inp.cases(fig, spec) if c not in out})
@@ -354,25 +368,62 @@ def _relaxation_md_memory_bytes(rmd, n):
     return 1e9 + 1.3 * (64 * r * n + rmd["n_times"] * per_time)
 
 
-def _check_relaxation_md(config, states):
-    """Each N-body relaxation: a smooth case with a kinetic evolution to be compared with, dt
-    against its fastest orbit, every N against the noise of the magnetisation, memory."""
-    rmd = config.get("relaxation_md") or {}
+def _check_ensembles(config, states, block, settings, min_realisations):
+    """The runs of an ensemble block (relaxation_md, relaxation_rates): a smooth case with a
+    kinetic evolution to be compared with, dt against its fastest orbit, every N against the
+    noise of the magnetisation, at least `min_realisations` realisations at every N (their
+    spread is the error), memory.  settings: the block's dt, particles_per_size, n_times,
+    n_bins."""
     relaxed = (config.get("relaxation") or {}).get("runs", {})
-    per_size = rmd.get("particles_per_size")
-    for case, spec in rmd.get("runs", {}).items():
-        where = f"relaxation_md run '{case}'"
+    per_size = settings.get("particles_per_size")
+    for case, spec in (config.get(block) or {}).get("runs", {}).items():
+        where = f"{block} run '{case}'"
         check_smooth_case(config, where, case, "the N-body relaxation")
         if case not in relaxed:
             raise ConfigError(
                 f"{where}: case '{case}' is not under relaxation.runs (its kinetic evolutions "
                 "are what the ensembles are compared with)"
             )
-        check_time_step(where, "dt", rmd["dt"], states[case])
+        check_time_step(where, "dt", settings["dt"], states[case])
         for n in spec["n_particles"]:
             check_particle_number(where, "n_particles", n, states[case])
+            if per_size // n < min_realisations:
+                raise ConfigError(
+                    f"{where}: field 'n_particles' = {n!r} leaves {per_size // n} realisation(s) "
+                    f"with particles_per_size = {per_size!r}; need N <= particles_per_size / "
+                    f"{min_realisations}"
+                )
             what = f"field 'n_particles' = {n!r} with particles_per_size = {per_size!r}"
-            check_memory(where, _relaxation_md_memory_bytes(rmd, n), what)
+            check_memory(where, _relaxation_md_memory_bytes(settings, n), what)
+
+
+def _check_relaxation_md(config, states):
+    """Each N-body relaxation (`_check_ensembles`, one realisation allowed)."""
+    _check_ensembles(config, states, "relaxation_md", config.get("relaxation_md") or {}, 1)
+
+
+def _check_relaxation_rates(config, states):
+    """Each early-window study (`_check_ensembles` with relaxation_md's dt and bins, two
+    realisations at least), and the figures that draw a study or a relaxation comparison name
+    a case that has one."""
+    rr = config.get("relaxation_rates") or {}
+    rmd = config.get("relaxation_md") or {}
+    if rr:
+        settings = dict(rmd, particles_per_size=rr["particles_per_size"], n_times=rr["n_times"])
+        _check_ensembles(config, states, "relaxation_rates", settings, 2)
+    for kind, block in (("relaxation_rates", rr), ("relaxation_comparison", rmd)):
+        runs = (block.get("runs") or {}) if block else {}
+        for case, fig in _cases_of_kind(config, kind, exact=True).items():
+            if case not in runs:
+                raise ConfigError(
+                    f"figure '{fig}': case '{case}' has no run under {block_name(kind)}.runs "
+                    f"(runs: {sorted(runs)})"
+                )
+
+
+def block_name(kind):
+    """The config block whose runs make the inputs of a figure's `kind`."""
+    return {"relaxation_comparison": "relaxation_md"}.get(kind, kind)
 
 
 # ---- figures ----------------------------------------------------------------------------
@@ -400,6 +451,7 @@ def check_physics(config):
     _check_md_scaling(config, states)
     _check_relaxation(config)
     _check_relaxation_md(config, states)
+    _check_relaxation_rates(config, states)
     _check_figures(config)
     _check_spectrum(config, states, runs)
 

@@ -72,11 +72,27 @@ def spectrum_dataset(comp):
     return ds
 
 
-def scaling_dataset(fits, sizes, *, dynamics):
+_EQUATION = {
+    "landau": "Landau (bare, no collective effects)",
+    "lenard_balescu": "Lenard-Balescu (dressed by the dielectric tensor)",
+}
+
+
+def scaling_dataset(fits, sizes, *, dynamics, theory, other, equations, drawn):
     """results/scaling/{case}_{dynamics}.nc: N*D_MD per bin at each N, from the fit datasets
-    (`analysis.fits.diffusion_fit`) of the sizes, in the order of `sizes`."""
+    (`analysis.fits.diffusion_fit`) of the sizes, in the order of `sizes`; beside it the
+    kinetic theory (N, bin) of this dynamics and the other one, bin-averaged like
+    validation.csv's ND_theory (`analysis.scaling.scaling_theory`); `equations` names them
+    (e.g. ('landau', 'lenard_balescu') for MD(bath)); `drawn`, the bins figure 15 draws."""
     ref = fits[0]
     b, nb = ("bin",), ("N", "bin")
+    own_eq, other_eq = equations
+    averaged = (
+        "averaged over the bin with the density of the tracked particles of the runs at this N "
+        "(as ND_theory of validation.csv)"
+    )
+    drawn_flag = np.zeros(ref.sizes["bin"], dtype=np.int8)
+    drawn_flag[list(drawn)] = 1
     data = {
         "ND_md": _var(nb, np.stack([f["ND_md"].values for f in fits]), D_UNITS, "N D_MD"),
         "ND_md_err": _var(
@@ -86,12 +102,38 @@ def scaling_dataset(fits, sizes, *, dynamics):
             "standard error",
             valid=NONNEGATIVE,
         ),
+        "ND_theory": _var(
+            nb,
+            np.asarray(theory, dtype=float),
+            D_UNITS,
+            f"N D of the kinetic theory of {_WHAT[dynamics][0]}: {_EQUATION[own_eq]}, {averaged}",
+            valid=NONNEGATIVE,
+            equation=own_eq,
+        ),
+        "ND_theory_other": _var(
+            nb,
+            np.asarray(other, dtype=float),
+            D_UNITS,
+            f"N D of the other kinetic theory, {_EQUATION[other_eq]}, {averaged}",
+            valid=NONNEGATIVE,
+            equation=other_eq,
+        ),
         "flag": _var(
             nb,
             np.stack([f["flag"].values for f in fits]),
             "1",
             "bin quality (fits)",
             valid=(ref["flag"].attrs.get("valid_min"), ref["flag"].attrs.get("valid_max")),
+        ),
+        "drawn": _var(
+            b, drawn_flag, "1", "1 for the bins drawn in figure 15, else 0", valid=UNIT_INTERVAL
+        ),
+        "n_seeds": _var(
+            ("N",),
+            np.asarray([int(f.attrs["n_seeds"]) for f in fits], dtype=np.int64),
+            "1",
+            "realisations (seeds) at this N",
+            valid=(1, None),
         ),
         "n_particles_in_bin": _var(
             nb,
@@ -115,7 +157,7 @@ def scaling_dataset(fits, sizes, *, dynamics):
     ds.attrs.update(
         dynamics=dynamics,
         fit_window=list(ref.attrs["fit_window"]),
-        n_seeds=int(ref.attrs["n_seeds"]),
+        n_seeds=int(min(int(f.attrs["n_seeds"]) for f in fits)),
         D_convention="<dJ^2> = 2 D dt; N*D stored",
     )
     return ds

@@ -106,44 +106,93 @@ def fig14_spectrum(inputs, pdf, png):
     save_figure(fig, pdf, png, inputs, title)
 
 
-def fig15_scaling(inputs, pdf, png):
-    """Fig. 15: N*D_MD against N in a few bins (points with errors), MD(bath) and MD(full),
-    from inputs["scaling_bath"][0] and inputs["scaling_full"][0]."""
-    sets = [(inputs["scaling_bath"][0], "MD(bath)"), (inputs["scaling_full"][0], "MD(full)")]
-    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.4), squeeze=False)
-    titles = []
-    for ax, (ds, label) in zip(axes[0], sets, strict=True):
-        N = ds["N"].values
-        ok = (ds["flag"].values == 0).all(axis=0)
-        bins = np.flatnonzero(ok)
-        n_pick = min(4, bins.size)
-        pick = bins[np.linspace(0, bins.size - 1, n_pick).astype(int)] if n_pick else []
-        colors = plt.cm.viridis(np.linspace(0, 0.85, max(len(pick), 1)))
-        for b, col in zip(pick, colors, strict=False):
-            y, e = ds["ND_md"].values[:, b], ds["ND_md_err"].values[:, b]
-            ax.errorbar(
-                N,
-                y,
-                yerr=np.where(np.isfinite(e), e, 0),
-                fmt="o-",
-                ms=3,
-                lw=0.8,
-                capsize=2,
-                color=col,
-                label=rf"$\kappa_0={float(ds['kappa0'][b]):.2f}$",
-            )
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel(r"number of particles $N$")
-        ax.set_ylabel(rf"$N D_{{MD}}$ ({HMF})")
-        ax.legend(fontsize=6.5)
-        w0, w1 = ds.attrs["fit_window"]
-        titles.append(
-            rf"{label}, $M_0={sci(ds['M0'], 4)}$, fit on $[{sci(w0)}, {sci(w1)}]$, "
-            f"{int(ds.attrs['n_seeds'])} seeds"
+#: line styles of figure 15's theory: that of the panel's dynamics, the other one
+_OWN, _OTHER = "-", "--"
+_STYLE_LABELS = (
+    (
+        _OWN,
+        "kinetic theory of the panel's MD, bin-averaged:\nLandau (bare) in MD(bath), "
+        "Lenard-Balescu (dressed) in MD(full)",
+    ),
+    (_OTHER, "the other theory, bin-averaged:\nLenard-Balescu in MD(bath), Landau in MD(full)"),
+)
+#: MD points of neighbouring bins drawn this far apart (decades of N), not on top of each other
+_SHIFT_DECADES = 0.02
+
+
+def _scaling_panel(ax, ds, colors):
+    """One study and dynamics: N D_MD (points, errors from the spread between seeds) in each
+    drawn bin, the bin-averaged theory of the dynamics (solid) and the other theory (dashed),
+    in the bin's colour.  Returns the bins' legend handles and labels."""
+    N = ds["N"].values.astype(float)
+    bins = np.flatnonzero(ds["drawn"].values)
+    handles, labels = [], []
+    for i, (b, col) in enumerate(zip(bins, colors, strict=False)):
+        y, e = ds["ND_md"].values[:, b], ds["ND_md_err"].values[:, b]
+        e = np.where(np.isfinite(e), np.minimum(e, 0.95 * np.abs(y)), 0.0)
+        shift = 10 ** (_SHIFT_DECADES * (i - (len(bins) - 1) / 2))
+        h = ax.errorbar(
+            N * shift, y, yerr=e, fmt="o", ms=3.5, color=col, capsize=2, lw=0.9, zorder=3
         )
-    tag_panels(axes, titles)
-    title = "Fig. 15: N D from MD against N (flat where the kinetic theory's 1/N ordering holds)"
+        ax.plot(N, ds["ND_theory"].values[:, b], _OWN, color=col, lw=1.3, zorder=2)
+        ax.plot(N, ds["ND_theory_other"].values[:, b], _OTHER, color=col, lw=0.9, alpha=0.6)
+        handles.append(h)
+        k0, j0 = sci(ds["kappa0"][b], 2), sci(ds["jbar0"][b], 3)
+        labels.append(rf"$\kappa_0={k0}$ ($\bar J_0={j0}$)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(N.min() / 10**0.15, N.max() * 10**0.15)
+    ax.set_xticks(N, [f"${sci(n)}$" for n in N])
+    ax.xaxis.set_minor_formatter(plt.NullFormatter())
+    ax.set_xlabel(r"number of particles $N$")
+    ax.set_ylabel(rf"$N D$ ({HMF})")
+    return handles, labels
+
+
+def fig15_scaling(inputs, pdf, png):
+    """Fig. 15: N D_MD against N (points with errors from the spread between seeds) in the
+    drawn bins of each study (one row per inputs["scaling_bath"] / ["scaling_full"] dataset:
+    MD(bath), MD(full)), the kinetic theory averaged over each bin like validation.csv's
+    ND_theory as lines in the bin's colour: solid the theory of the panel's dynamics (Landau
+    for MD(bath), Lenard-Balescu for MD(full)), dashed the other one.  N D is independent of
+    N, on the solid line, where the kinetic theory's 1/N ordering holds."""
+    pairs = list(zip(inputs["scaling_bath"], inputs["scaling_full"], strict=True))
+    rows = len(pairs)
+    fig, axes = plt.subplots(rows, 2, figsize=(12.0, 3.6 * rows + 0.4), squeeze=False)
+    titles = []
+    for row, (bath, full) in zip(axes, pairs, strict=True):
+        n_drawn = max(int(bath["drawn"].sum()), int(full["drawn"].sum()), 1)
+        colors = plt.cm.viridis(np.linspace(0, 0.85, n_drawn))
+        for ax, ds, label in ((row[0], bath, "MD(bath)"), (row[1], full, "MD(full)")):
+            handles, labels = _scaling_panel(ax, ds, colors)
+            w0, w1 = ds.attrs["fit_window"]
+            lo, hi = int(ds["n_seeds"].min()), int(ds["n_seeds"].max())
+            n_seeds = f"{lo}" if lo == hi else f"{lo}-{hi}"
+            titles.append(
+                rf"{label}, {ds.attrs.get('case', '')}: $M_0={sci(ds['M0'], 4)}$"
+                "\n"
+                rf"fit on $[{sci(w0)}, {sci(w1)}]$, {n_seeds} seeds per $N$"
+            )
+        # one legend per row, right of its panels (off the data)
+        for style, text in _STYLE_LABELS:
+            (line,) = row[1].plot([], [], style, color="0.2", lw=1.1)
+            handles.append(line)
+            labels.append(text)
+        row[1].legend(
+            handles,
+            labels,
+            loc="upper left",
+            bbox_to_anchor=(1.03, 1.0),
+            fontsize=7,
+            frameon=False,
+            title="bins (points: MD)",
+            title_fontsize=7,
+        )
+    tag_panels(axes, titles, fontsize=7.5)
+    title = (
+        "Fig. 15: N D from MD against N, with the bin-averaged kinetic theory (flat where the "
+        "1/N ordering holds)"
+    )
     fig.suptitle(title, fontsize=9)
     fig.tight_layout()
     save_figure(fig, pdf, png, inputs, title)

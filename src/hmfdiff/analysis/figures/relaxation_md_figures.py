@@ -1,8 +1,9 @@
-"""Figures 12 and 13: N-body relaxation ensembles against the kinetic evolutions.
+"""Figures 12, 13 and 16: N-body relaxation ensembles against the kinetic evolutions.
 
-Both read results/relaxation_comparison/{case}.nc (`analysis.relaxation_compare`): the MD at
+All read results/relaxation_comparison/{case}.nc (`analysis.relaxation_compare`): the MD at
 every N and the Lenard-Balescu and Landau evolutions on the MD's rescaled times t/N, all in the
-coarse-graining of the MD's J-bar bins.
+coarse-graining of the MD's J-bar bins; figure 16 also the early window across N,
+results/relaxation_rates/{case}.nc (`analysis.relaxation_rates`).
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ import numpy as np
 
 from .style import HMF, plt, save_figure, sci, tag_panels
 
-__all__ = ["fig12_relaxation_md", "fig13_relaxation_time"]
+__all__ = ["fig12_relaxation_md", "fig13_relaxation_time", "fig16_relaxation_rates"]
 
 _KIN = (("lenard_balescu", "Lenard-Balescu", "k", "-"), ("landau", "Landau", "0.45", "--"))
 
@@ -172,3 +173,91 @@ def fig13_relaxation_time(inputs, pdf, png):
     tag_panels(axes, titles)
     fig.tight_layout()
     save_figure(fig, pdf, png, inputs, "Fig. 13: relaxation time against N")
+
+
+def _rate_panel(ax, ds, key, ylabel):
+    """A rate over the early window against N: the state's ensembles, the thermal control, and
+    each kinetic equation's value over the same window as a horizontal line."""
+    n = ds["N"].values.astype(float)
+    st, th = ds.sel(initial="state"), ds.sel(initial="thermal")
+    ax.errorbar(n, st[f"{key}_md"], st[f"{key}_md_err"], fmt="o", color="C3", label="N-body")
+    ax.errorbar(
+        n * 1.08,
+        th[f"{key}_md"],
+        th[f"{key}_md_err"],
+        fmt="s",
+        color="0.55",
+        ms=4,
+        label="thermal control (floor)",
+    )
+    for eq, label, c, ls in _KIN:
+        if f"{key}_{eq}" in ds:
+            ax.axhline(float(ds[f"{key}_{eq}"]), color=c, ls=ls, lw=1, label=label)
+    ax.axhline(0.0, color="0.8", lw=0.6, zorder=0)
+    ax.set_xscale("log")
+    ax.set_xlabel(r"$N$")
+    ax.set_ylabel(ylabel)
+
+
+def fig16_relaxation_rates(inputs, pdf, png):
+    """Fig. 16: the N-body relaxation rate against N: (a) entropy change over the early window
+    at each N with the kinetic curves, (b) its rate over the window, (c) the current through the
+    core edge, (d) N / t_R of the full relaxation; kinetic predictions as lines, thermal control
+    as the floor."""
+    ds = inputs["relaxation_rates"][0]
+    cmp_ = inputs["relaxation_comparison"][0]
+    fig, axes = plt.subplots(2, 2, figsize=(10.0, 7.6), squeeze=False)
+    ax = axes[0, 0]
+    tau = ds["tau"].values
+    cols = _colours(ds.sizes["N"])
+    for j, n in enumerate(ds["N"].values):
+        for initial, mk, ls in (("state", "o", "-"), ("thermal", "", ":")):
+            y = ds["dS_md"].sel(initial=initial).isel(N=j).values
+            e = ds["dS_md_err"].sel(initial=initial).isel(N=j).values
+            lab = f"$N = {sci(n)}$" if initial == "state" else None
+            ax.plot(tau[1:], y[1:], ls=ls, marker=mk, ms=3, color=cols[j], lw=1, label=lab)
+            ax.fill_between(tau[1:], (y - e)[1:], (y + e)[1:], color=cols[j], alpha=0.2, lw=0)
+    for eq, label, c, ls in _KIN:
+        if f"dS_{eq}" in ds:
+            ax.plot(tau[1:], ds[f"dS_{eq}"].values[1:], color=c, ls=ls, lw=1.5, label=label)
+    ax.set_xscale("log")
+    ax.set_xlabel(r"$\tau = t/N$")
+    ax.set_ylabel(r"$S(\tau) - S(0)$ (coarse-grained, per particle)")
+    ax.legend(fontsize=7, loc="upper left", title="dotted: thermal control", title_fontsize=7)
+    tw = sci(ds.attrs["tau_window"])
+    _rate_panel(axes[0, 1], ds, "entropy_rate", rf"$[S(\tau_*) - S(0)]/\tau_*$, $\tau_* = {tw}$")
+    axes[0, 1].legend(fontsize=7)
+    jb = sci(ds.attrs["core_edge_jbar"])
+    _rate_panel(
+        axes[1, 0],
+        ds,
+        "current",
+        rf"particles out through $\bar J = {jb}$ per unit $\tau$, over $[0, \tau_*]$",
+    )
+    ax = axes[1, 1]
+    n = cmp_["N"].values.astype(float)
+    rate = n / cmp_["t_relax_md"].values
+    err = rate * cmp_["t_relax_md_err"].values / cmp_["t_relax_md"].values
+    ax.errorbar(n, rate, err, fmt="o", color="C3", label=r"N-body $N/t_R$")
+    for eq, label, c, ls in _KIN:
+        key = f"tau_relax_coarse_{eq}"
+        if key in cmp_ and np.isfinite(float(cmp_[key])):
+            ax.axhline(1.0 / float(cmp_[key]), color=c, ls=ls, lw=1, label=rf"{label} $1/\tau_R$")
+    ax.set_xscale("log")
+    ax.set_xlim(n.min() / 2, max(n.max() * 2, ds["N"].values.max() * 1.5))
+    ax.set_ylim(0.0, None)
+    ax.set_xlabel(r"$N$")
+    ax.set_ylabel(r"relaxation rate $N/t_R$ (per unit $t/N$)")
+    ax.legend(fontsize=7)
+    case = ds.attrs.get("case", "")
+    tag_panels(
+        axes,
+        [
+            f"{case}: entropy over the early window",
+            "entropy production over the window",
+            "current through the core edge",
+            "full relaxation (entropy deficit / e)",
+        ],
+    )
+    fig.tight_layout()
+    save_figure(fig, pdf, png, inputs, "Fig. 16: N-body relaxation rate against N")
