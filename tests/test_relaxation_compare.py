@@ -369,3 +369,15 @@ def test_end_state_against_the_thermal_state_of_each_realisation_energy():
     m_u0 = _thermal_M0_by_bisection(u0)
     off = rc.own_energy_thermal(energies, np.full(5, m_u0))["M_end_minus_own"][0]
     assert off == pytest.approx(m_u0 - m_own.mean(), abs=1e-9) and abs(off) > 1e-3
+
+
+def test_entropy_change_since_t0_and_its_error(known_states):
+    """S_md_change = S_md(tau) - S_md(0) against the closed form within 4 of its jackknife
+    errors at every N and tau; its error is that of the difference, 0 at tau = 0."""
+    rng = np.random.default_rng(11)
+    md = [md_ensemble(n, R, rng) for n, R in ((1000, 20), (2000, 10))]
+    ds, _, _ = rc.compare_relaxation(md, KINETIC, *known_states)
+    truth = entropy_exact(weight_a(TAUS, TAU_MD)) - entropy_exact(weight_a(0.0, TAU_MD))
+    change, err = ds["S_md_change"].values, ds["S_md_change_err"].values
+    assert np.all(change[:, 0] == 0) and np.all(err[:, 0] == 0)
+    assert np.all(np.abs(change[:, 1:] - truth[1:]) < 4 * err[:, 1:])

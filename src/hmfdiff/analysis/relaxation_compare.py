@@ -79,6 +79,9 @@ def _pooled_P(G):
     return G[..., :-1].sum(axis=0) / np.maximum(total, 1.0)[..., None]
 
 
+_NO_OWN = {"M0_thermal_own": (np.nan, np.nan)}  # an ensemble without energies
+
+
 def own_energy_thermal(energy0, M_end):
     """Each realisation relaxes towards the thermal state of its own energy, which scatters
     about u0 by O(1/sqrt N) (its N particles are drawn independently).  From the energies per
@@ -137,9 +140,12 @@ def compare_relaxation(md, kinetic, state, thermal):
         G = _groups(d["hist"].values, d["overflow"].values, N_GROUPS)
         P_md, P_err = jackknife(G, _pooled_P)
         S_md, S_err = jackknife(G, lambda g: _coarse_entropy(_pooled_P(g), edges))
+        dS_md, dS_err = jackknife(
+            G, lambda g: (lambda S: S - S[0])(_coarse_entropy(_pooled_P(g), edges))
+        )
         M = d["M_abs"].values
         M_md, M_err = M.mean(axis=1), M.std(axis=1, ddof=1) / np.sqrt(M.shape[1])
-        own_eq = own_energy_thermal(d["energy"].values[0], M[-1])
+        own_eq = own_energy_thermal(d["energy"].values[0], M[-1]) if "energy" in d else None
         t_relax, t_relax_err = jackknife(
             G, lambda g, t=t: relaxation_time(t, S_eq - _coarse_entropy(_pooled_P(g), edges))
         )
@@ -192,6 +198,8 @@ def compare_relaxation(md, kinetic, state, thermal):
                 P_err=P_err,
                 S_md=S_md,
                 S_err=S_err,
+                dS_md=dS_md,
+                dS_err=dS_err,
                 M_md=M_md,
                 M_err=M_err,
                 t_relax=float(t_relax),
@@ -223,7 +231,7 @@ def compare_relaxation(md, kinetic, state, thermal):
         "jackknife_groups": {p["n"]: p["n_groups"] for p in per_n},
         "t_relax_md_measures": {p["n"]: p["t_relax_measures"] for p in per_n},
         "M0_thermal_u0": float(thermal.M0),
-        "own_energy_thermal": {p["n"]: p["own_eq"] for p in per_n},
+        "own_energy_thermal": {p["n"]: p["own_eq"] for p in per_n if p["own_eq"]},
     }
     ds = _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary)
     return ds, rows, summary
@@ -263,6 +271,19 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
             np.stack([on_grid("S_err", p) for p in per_n]),
             "1",
             "jackknife error of S_md",
+        ),
+        "S_md_change": variable(
+            ("N", "tau"),
+            np.stack([on_grid("dS_md", p) for p in per_n]),
+            "1",
+            "S_md(tau) - S_md(0): the entropy gained since t = 0 (the sampling noise of the "
+            "initial histogram cancels)",
+        ),
+        "S_md_change_err": variable(
+            ("N", "tau"),
+            np.stack([on_grid("dS_err", p) for p in per_n]),
+            "1",
+            "jackknife error of S_md_change (of the difference, over the same groups)",
         ),
         "P_md": variable(
             ("N", "tau", "jbar"),
@@ -313,13 +334,13 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
         },
         "M0_thermal_own_energy": variable(
             ("N",),
-            [p["own_eq"]["M0_thermal_own"][0] for p in per_n],
+            [(p["own_eq"] or _NO_OWN)["M0_thermal_own"][0] for p in per_n],
             "1",
             "mean over realisations of the thermal M0 of each realisation's own initial energy",
         ),
         "M0_thermal_own_energy_err": variable(
             ("N",),
-            [p["own_eq"]["M0_thermal_own"][1] for p in per_n],
+            [(p["own_eq"] or _NO_OWN)["M0_thermal_own"][1] for p in per_n],
             "1",
             "standard error of M0_thermal_own_energy",
         ),
