@@ -56,7 +56,7 @@ rule relaxation_rates_md:
         f"{LOG}/relaxation_rates/{{case}}/{{initial}}/N{{n}}.log",
     wildcard_constraints:
         n=r"\d+",
-        initial="state|thermal",
+        initial="|".join(INITIALS),
     conda:
         "../envs/hmfdiff.yaml"
     threads: lambda w: config["relaxation_md"]["threads"]

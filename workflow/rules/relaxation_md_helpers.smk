@@ -1,4 +1,6 @@
 # Helpers of the N-body relaxation rules (relaxation_md.smk).
+# INITIALS: an early-window ensemble is drawn from the state, or from its thermal control
+from hmfdiff.analysis.relaxation_rates import INITIALS
 
 
 def relaxation_md_cases():
@@ -25,11 +27,15 @@ def relaxation_md_run(case):
     return json.dumps(run, sort_keys=True)
 
 
-def relaxation_md_runtime_min(case, n):
-    """Wall-time request in minutes from the particle-steps and a conservative 1e8 per s."""
-    rmd = config["relaxation_md"]
-    steps = rmd["particles_per_size"] * rmd["tau_max"] * int(n) / rmd["dt"]
+def ensemble_runtime_min(run, n):
+    """Wall-time request in minutes of an ensemble job at N = n (settings `run`: dt,
+    particles_per_size, tau_max) from its particle-steps and a conservative 1e8 per s."""
+    steps = run["particles_per_size"] * run["tau_max"] * int(n) / run["dt"]
     return int(10 + steps / 1e8 / 60 * 2)
+
+
+def relaxation_md_runtime_min(case, n):
+    return ensemble_runtime_min(config["relaxation_md"], n)
 
 
 def relaxation_comparison_inputs(wildcards=None):
@@ -71,15 +77,13 @@ def relaxation_rates_run():
 
 
 def relaxation_rates_runtime_min(n):
-    rr = json.loads(relaxation_rates_run())
-    steps = rr["particles_per_size"] * rr["tau_max"] * int(n) / rr["dt"]
-    return int(10 + steps / 1e8 / 60 * 2)
+    return ensemble_runtime_min(json.loads(relaxation_rates_run()), n)
 
 
 def relaxation_rates_ensembles(case):
     return [
         f"{RES}/relaxation_rates/{case}/{initial}/N{n}.nc"
-        for initial in ("state", "thermal")
+        for initial in INITIALS
         for n in relaxation_rates_sizes(case)
     ]
 
@@ -89,7 +93,6 @@ def relaxation_rates_inputs(wildcards):
     return {
         "md": relaxation_rates_ensembles(wildcards.case),
         "kinetic": [f"{RES}/relaxation/{wildcards.case}_{e}.nc" for e in equations],
-        "equilibrium": f"{RES}/equilibrium/{wildcards.case}.nc",
         "lib": lib("relaxation_rates.py"),
     }
 

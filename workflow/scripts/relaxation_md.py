@@ -20,7 +20,7 @@ log = get_logger("relaxation_md", sm.log[0])
 run = json.loads(sm.params.run)
 threads = set_threads(sm.threads)
 state = state_from_dataset(read_dataset(sm.input.equilibrium, required=["M0"]))
-initial = getattr(sm.params, "initial", "state")
+initial = sm.params.initial
 drawn = ThermalState(u=state.u) if initial == "thermal" else state
 n = int(sm.wildcards.n)
 n_real = max(1, run["particles_per_size"] // n)

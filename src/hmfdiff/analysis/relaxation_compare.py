@@ -18,6 +18,7 @@ import xarray as xr
 
 from ..meanfield.equilibrium import thermal_M0_from_energy
 from ..pipeline.layouts import variable
+from ..pipeline.relaxation_layouts import MEASURE_NAMES
 from .relaxation_md import (
     PHASE_VOLUME_PER_JBAR,
     interpolate_in_time,
@@ -33,8 +34,6 @@ __all__ = ["compare_relaxation", "summary_lines", "COMPARISON_COLUMNS"]
 
 N_GROUPS = 10  # groups of realisations for jackknife errors
 
-#: J-bar measures besides the mean field's <|M|>(t) (histograms hist_own, hist_static)
-MEASURES = {"_own": "each realisation's own |M|", "_static": "the initial state's static M0"}
 
 COMPARISON_COLUMNS = [
     "case",
@@ -146,22 +145,23 @@ def compare_relaxation(md, kinetic, state, thermal):
         M = d["M_abs"].values
         M_md, M_err = M.mean(axis=1), M.std(axis=1, ddof=1) / np.sqrt(M.shape[1])
         own_eq = own_energy_thermal(d["energy"].values[0], M[-1]) if "energy" in d else None
-        t_relax, t_relax_err = jackknife(
-            G, lambda g, t=t: relaxation_time(t, S_eq - _coarse_entropy(_pooled_P(g), edges))
-        )
-        other = {}  # t_R with J-bar measured with each realisation's |M|, the static M0
-        for m in ("_own", "_static"):
-            if "hist" + m in d:
-                Gm = _groups(d["hist" + m].values, d["overflow" + m].values, N_GROUPS)
-                other[m] = tuple(
-                    float(x)
-                    for x in jackknife(
-                        Gm,
-                        lambda g, t=t: relaxation_time(
-                            t, S_eq - _coarse_entropy(_pooled_P(g), edges)
-                        ),
-                    )
+
+        def t_relax_of(groups, t=t):
+            return jackknife(
+                groups, lambda g: relaxation_time(t, S_eq - _coarse_entropy(_pooled_P(g), edges))
+            )
+
+        t_relax, t_relax_err = t_relax_of(G)
+        other = {  # t_R with J-bar measured with each realisation's |M|, the static M0
+            m: tuple(
+                float(x)
+                for x in t_relax_of(
+                    _groups(d["hist" + m].values, d["overflow" + m].values, N_GROUPS)
                 )
+            )
+            for m in MEASURE_NAMES
+            if "hist" + m in d
+        }
         floor = np.sqrt(2.0 / np.pi) * P_err.sum(axis=-1)
         cols = {"M": {}, "S": {}, "d": {}, "d_err": {}, "P": {}}
         for eq, k in kin.items():
@@ -321,7 +321,7 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
                 "time",
                 f"t_relax_md with J-bar measured with {how}",
             )
-            for m, how in MEASURES.items()
+            for m, how in MEASURE_NAMES.items()
         },
         **{
             f"t_relax_md{m}_err": variable(
@@ -330,7 +330,7 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
                 "time",
                 f"jackknife error of t_relax_md{m}",
             )
-            for m in MEASURES
+            for m in MEASURE_NAMES
         },
         "M0_thermal_own_energy": variable(
             ("N",),
@@ -464,7 +464,8 @@ def summary_lines(summary):
         )
         for n, per in meas.items():
             parts = [
-                f"{MEASURES[m]}: t_R/N = {v[0] / n:.4g} +- {v[1] / n:.2g}" for m, v in per.items()
+                f"{MEASURE_NAMES[m]}: t_R/N = {v[0] / n:.4g} +- {v[1] / n:.2g}"
+                for m, v in per.items()
             ]
             out.append(f"    N = {n}: " + "; ".join(parts))
     out.append(

@@ -47,7 +47,6 @@ __all__ = [
     "mean_and_error",
     "ensemble_changes",
     "kinetic_changes",
-    "ratio_with_error",
     "steepest_edge",
 ]
 
@@ -117,18 +116,7 @@ def steepest_edge(dC):
     return int(np.argmax(np.abs(np.asarray(dC))))
 
 
-def ratio_with_error(x, x_err, ref):
-    """x / ref and its error x_err / |ref| (the reference exact)."""
-    return x / ref, x_err / abs(ref)
-
-
 INITIALS = ("state", "thermal")
-
-
-def _on_grid(tau_src, values, tau):
-    """Values with time along axis 0 interpolated at tau (the schedules of different N differ
-    only by the rounding of t to whole steps)."""
-    return interpolate_in_time(tau_src, values, tau)
 
 
 def compare_rates(md, kinetic):
@@ -164,10 +152,10 @@ def compare_rates(md, kinetic):
                 edges,
                 float(d.attrs["M0_initial_state"]),
             )
-            t_n = d["tau"].values
+            t_n = d["tau"].values  # differs from tau only by the rounding of t to whole steps
             for k in ("dS", "dC", "dM"):
-                acc[k][i, j] = _on_grid(t_n, ch[k][0], tau)
-                acc[k + "_err"][i, j] = _on_grid(t_n, ch[k][1], tau)
+                acc[k][i, j] = interpolate_in_time(t_n, ch[k][0], tau)
+                acc[k + "_err"][i, j] = interpolate_in_time(t_n, ch[k][1], tau)
             off[i, j], off_err[i, j] = ch["M_offset"]
             n_real[j] = d.sizes["realisation"]
     kin = {eq: kinetic_changes(ds, edges, tau) for eq, ds in kinetic.items()}

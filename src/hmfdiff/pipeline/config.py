@@ -404,26 +404,28 @@ def _check_relaxation_md(config, states):
 
 def _check_relaxation_rates(config, states):
     """Each early-window study (`_check_ensembles` with relaxation_md's dt and bins, two
-    realisations at least), and the figures that draw a study or a relaxation comparison name
-    a case that has one."""
+    realisations at least)."""
     rr = config.get("relaxation_rates") or {}
-    rmd = config.get("relaxation_md") or {}
     if rr:
+        rmd = config.get("relaxation_md") or {}
         settings = dict(rmd, particles_per_size=rr["particles_per_size"], n_times=rr["n_times"])
         _check_ensembles(config, states, "relaxation_rates", settings, 2)
-    for kind, block in (("relaxation_rates", rr), ("relaxation_comparison", rmd)):
-        runs = (block.get("runs") or {}) if block else {}
+
+
+def _check_ensemble_figures(config):
+    """A figure that draws an early-window study or a relaxation comparison names a case that
+    has a run in the block making it."""
+    for kind, block in (
+        ("relaxation_rates", "relaxation_rates"),
+        ("relaxation_comparison", "relaxation_md"),
+    ):
+        runs = (config.get(block) or {}).get("runs") or {}
         for case, fig in _cases_of_kind(config, kind, exact=True).items():
             if case not in runs:
                 raise ConfigError(
-                    f"figure '{fig}': case '{case}' has no run under {block_name(kind)}.runs "
+                    f"figure '{fig}': case '{case}' has no run under {block}.runs "
                     f"(runs: {sorted(runs)})"
                 )
-
-
-def block_name(kind):
-    """The config block whose runs make the inputs of a figure's `kind`."""
-    return {"relaxation_comparison": "relaxation_md"}.get(kind, kind)
 
 
 # ---- figures ----------------------------------------------------------------------------
@@ -452,6 +454,7 @@ def check_physics(config):
     _check_relaxation(config)
     _check_relaxation_md(config, states)
     _check_relaxation_rates(config, states)
+    _check_ensemble_figures(config)
     _check_figures(config)
     _check_spectrum(config, states, runs)
 

@@ -16,10 +16,7 @@ from .layouts import variable as _var
 __all__ = ["MEASURE_NAMES", "relaxation_md_dataset"]
 
 #: the J-bar measures besides the mean field's (`dynamics.ensemble.ACTION_MEASURES`)
-MEASURE_NAMES = {
-    "_own": "each realisation's own |M| (not the ensemble mean)",
-    "_static": "the initial state's M0 at every time",
-}
+MEASURE_NAMES = {"_own": "each realisation's own |M|", "_static": "the initial state's static M0"}
 
 
 def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
