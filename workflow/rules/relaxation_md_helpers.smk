@@ -29,7 +29,8 @@ def relaxation_md_run(case):
 
 def ensemble_runtime_min(run, n):
     """Wall-time request in minutes of an ensemble job at N = n (settings `run`: dt,
-    particles_per_size, tau_max) from its particle-steps and a conservative 1e8 per s."""
+    particles_per_size, tau_max) from its particle-steps and a conservative 1e8 per s.
+    """
     steps = run["particles_per_size"] * run["tau_max"] * int(n) / run["dt"]
     return int(10 + steps / 1e8 / 60 * 2)
 
