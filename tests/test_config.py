@@ -485,6 +485,11 @@ SCALING = ("md_scaling", "studies", "thermal_u-0.1")
             ["relaxation_md run 'thermal_u-0.1'", "not under relaxation.runs"],
         ),
         (
+            ("relaxation_md", "runs", "corehalo_ch2"),
+            {"n_particles": [200, 400], "control_sizes": [800]},
+            ["relaxation_md run 'corehalo_ch2': field 'control_sizes' = [800] not among"],
+        ),
+        (
             ("md_scaling", "studies", "nonexistent"),
             {"sizes": [1000], "seeds": 2},
             ["md_scaling study 'nonexistent': names case 'nonexistent', which is not in 'cases'"],

@@ -381,3 +381,111 @@ def test_entropy_change_since_t0_and_its_error(known_states):
     change, err = ds["S_md_change"].values, ds["S_md_change_err"].values
     assert np.all(change[:, 0] == 0) and np.all(err[:, 0] == 0)
     assert np.all(np.abs(change[:, 1:] - truth[1:]) < 4 * err[:, 1:])
+
+
+def ensemble_of_weights(p, n, R, rng):
+    """R realisations of n particles whose block-A weight is p (one value per sample of TAUS),
+    in the relaxation_md layout."""
+    c = rng.multinomial(n, bin_probabilities(p), size=(R, TAUS.size)).transpose(1, 0, 2)
+    zeros = np.zeros((TAUS.size, R))
+    out = {
+        "time": TAUS * n,
+        "M_abs": zeros + M_INF,
+        "M_phase": zeros,
+        "energy": zeros,
+        "momentum": zeros,
+        "M0_actions": np.full(TAUS.size, M_INF),
+        "hist": c[..., :-1],
+        "overflow": c[..., -1],
+        "wall_time_s": 0.0,
+    }
+    return relaxation_md_dataset(
+        out,
+        EDGES,
+        case="synthetic",
+        state=types.SimpleNamespace(M0=M_INF),
+        n_particles=n,
+        run={"dt": 0.1, "tau_max": float(TAUS[-1]), "seed": 0},
+    )
+
+
+def test_thermal_control_measures_the_plug_in_entropy_bias(known_states):
+    """Controls drawn from the thermal fractions themselves, M = N R = 400 particles per
+    sample: the coarse entropy is the plug-in estimate, low by sum_b (1 - p_b) / 2M over the 12
+    in-range bins, (11 + Q) / 2M = 1.4e-2 (the bin widths enter linearly: no bias).  Over 40
+    independent controls the mean offset must find it (its error is set by the overflow's
+    count, which moves the in-range entropy at first order), the jackknife errors of offset and
+    drift must match their scatter, and a stationary control's drift must average to zero.
+    One comparison with a control: the state's t_R moves by less than its error."""
+    rng = np.random.default_rng(7)
+    n, R = 40, 10
+    S_eq = entropy_exact(P_EQ_A)
+    bias = -(11 + Q) / (2 * n * R)
+    got = np.array(
+        [
+            [
+                v
+                for key in ("offset", "drift")
+                for v in rc.thermal_control(
+                    ensemble_of_weights(np.full(TAUS.size, P_EQ_A), n, R, rng), EDGES, S_eq
+                )[key]
+            ]
+            for _ in range(40)
+        ]
+    )
+    off, off_err, drift, drift_err = got.T
+    assert abs(off.mean() - bias) < 3 * off.std(ddof=1) / np.sqrt(off.size)
+    assert abs(off.mean()) > 5 * off.std(ddof=1) / np.sqrt(off.size)
+    assert abs(drift.mean()) < 3 * drift.std(ddof=1) / np.sqrt(drift.size)
+    # jackknife over 10 groups: its error has ~ 24 % scatter; the rms z of 40 values is known
+    # to ~ 0.15
+    for v, e, truth in ((off, off_err, bias), (drift, drift_err, 0.0)):
+        assert 0.6 < np.sqrt(np.mean(((v - truth) / e) ** 2)) < 1.6
+    state = ensemble_of_weights(weight_a(TAUS, TAU_MD), 1000, 20, rng)
+    control = ensemble_of_weights(np.full(TAUS.size, P_EQ_A), 1000, 20, rng)
+    _, _, summary = rc.compare_relaxation([state], KINETIC, *known_states, controls=[control])
+    t_r, t_r_err = summary["t_relax_md"][1000], summary["t_relax_md_err"][1000]
+    assert abs(summary["thermal_control"][1000]["t_relax"][0] - t_r) < t_r_err
+
+
+def test_relaxation_time_against_the_control_level(known_states):
+    """An ensemble that relaxes to a state other than the thermal one (block-A weight P_C, as a
+    histogram broadened by the measurement would), with a control that sits at P_C: the offset
+    is the closed-form entropy difference, the deficit to S_eq never falls to 1/e of its start
+    (t_R NaN or late), and t_R against the control's level is the 1/e time of
+    S(P_C) - S(p(tau)), found by root-finding on the closed form."""
+    P_C = 0.6
+    rng = np.random.default_rng(8)
+    n, R = 1000, 40
+
+    def weight(tau):
+        return P_C + (P0 - P_C) * np.exp(-np.asarray(tau, dtype=float) / TAU_MD)
+
+    state = ensemble_of_weights(weight(TAUS), n, R, rng)
+    control = ensemble_of_weights(np.full(TAUS.size, P_C), n, R, rng)
+    ds, _, summary = rc.compare_relaxation([state], KINETIC, *known_states, controls=[control])
+    c = summary["thermal_control"][n]
+    offset_exact = entropy_exact(P_C) - entropy_exact(P_EQ_A)
+    assert abs(c["offset"][0] - offset_exact) < 4 * c["offset"][1]
+    assert c["offset"][1] < 0.1 * abs(offset_exact)
+
+    def excess(tau):
+        return entropy_exact(P_C) - entropy_exact(weight(tau))
+
+    x = excess(TAUS)
+    t_expected = float(np.interp(excess(0.0) / np.e, x[::-1], TAUS[::-1])) * n
+    t_r, t_r_err = c["t_relax"]
+    assert abs(t_r - t_expected) < 4 * t_r_err
+    assert 0 < t_r_err < 0.05 * t_expected
+    # the plain t_R (deficit to S_eq) is another quantity here: well apart
+    assert not abs(summary["t_relax_md"][n] - t_expected) < 4 * t_r_err
+    np.testing.assert_allclose(ds["t_relax_md_vs_control"].values, [t_r])
+    assert np.isfinite(ds["S_control"].values).all()
+
+
+def test_thermal_control_must_match_an_ensemble(known_states):
+    rng = np.random.default_rng(9)
+    state = ensemble_of_weights(weight_a(TAUS, TAU_MD), 200, 10, rng)
+    control = ensemble_of_weights(np.full(TAUS.size, P_EQ_A), 400, 5, rng)
+    with pytest.raises(ValueError, match="N = \\[400\\]"):
+        rc.compare_relaxation([state], KINETIC, *known_states, controls=[control])

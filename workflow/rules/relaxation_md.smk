@@ -22,6 +22,31 @@ rule relaxation_md:
         "../scripts/relaxation_md.py"
 
 
+rule relaxation_md_control:
+    """The thermal control of an ensemble: the thermal state of the case's energy, with the same
+    N, realisations, bins, time step and schedule (the measurement floor)."""
+    input:
+        equilibrium=f"{RES}/equilibrium/{{case}}.nc",
+        lib=lib("relaxation_md.py"),
+    output:
+        f"{RES}/relaxation_md/{{case}}/thermal/N{{n}}.nc",
+    log:
+        f"{LOG}/relaxation_md/{{case}}/thermal/N{{n}}.log",
+    wildcard_constraints:
+        n=r"\d+",
+    conda:
+        "../envs/hmfdiff.yaml"
+    threads: lambda w: config["relaxation_md"]["threads"]
+    resources:
+        mem_mb=2000,
+        runtime=lambda w: relaxation_md_runtime_min(w.case, w.n),
+    params:
+        run=lambda w: relaxation_md_run(w.case),
+        initial="thermal",
+    script:
+        "../scripts/relaxation_md.py"
+
+
 rule relaxation_comparison:
     """N-body relaxation against the kinetic evolutions at matched t/N; relaxation time vs N."""
     input:

@@ -19,11 +19,22 @@ def relaxation_md_files():
     ]
 
 
+def relaxation_md_controls(case=None):
+    """The thermal-control ensembles (of every case, or of one)."""
+    runs = config.get("relaxation_md", {}).get("runs", {})
+    return [
+        f"{RES}/relaxation_md/{c}/thermal/N{n}.nc"
+        for c in ([case] if case else relaxation_md_cases())
+        for n in runs[c].get("control_sizes", [])
+    ]
+
+
 def relaxation_md_run(case):
     """The ensemble settings of one case (defaults merged with the case's own), as JSON."""
     rmd = config["relaxation_md"]
     run = {k: v for k, v in rmd.items() if k != "runs"}
-    run.update({k: v for k, v in rmd["runs"][case].items() if k != "n_particles"})
+    skip = ("n_particles", "control_sizes")
+    run.update({k: v for k, v in rmd["runs"][case].items() if k not in skip})
     return json.dumps(run, sort_keys=True)
 
 
@@ -45,6 +56,7 @@ def relaxation_comparison_inputs(wildcards=None):
     equations = config.get("relaxation", {}).get("equations", [])
     return {
         "md": relaxation_md_files(),
+        "control": relaxation_md_controls(),
         "kinetic": [f"{RES}/relaxation/{c}_{e}.nc" for c in cases for e in equations],
         "equilibrium": [f"{RES}/equilibrium/{c}.nc" for c in cases],
         "lib": lib("relaxation_comparison.py"),

@@ -17,6 +17,7 @@ from hmfdiff.pipeline.runtime import get_logger
 sm = snakemake  # noqa: F821
 log = get_logger("relaxation_comparison", sm.log[0])
 md = [read_dataset(p, required=["hist", "M_abs"]) for p in sm.input.md]
+controls = [read_dataset(p, required=["hist", "overflow"]) for p in sm.input.control]
 kinetic = [read_dataset(p, required=["f", "M0", "tau"]) for p in sm.input.kinetic]
 rows, lines = [], []
 for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
@@ -25,7 +26,10 @@ for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
     )
     ens = [d for d in md if d.attrs["case"] == case]
     kin = {d.attrs["equation"]: d for d in kinetic if d.attrs["case"] == case}
-    ds, case_rows, summary = compare_relaxation(ens, kin, state, ThermalState(u=state.u))
+    ctrl = [d for d in controls if d.attrs["case"] == case]
+    ds, case_rows, summary = compare_relaxation(
+        ens, kin, state, ThermalState(u=state.u), controls=ctrl
+    )
     write_dataset(ds, out, {"cases": sm.params.cases}, case=case)
     rows += case_rows
     lines += summary_lines(summary)

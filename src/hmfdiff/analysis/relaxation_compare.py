@@ -9,6 +9,12 @@ end point of both kinetic equations), binned the same way.
 Relaxation time: the time at which the coarse-grained entropy deficit S_eq - S has fallen to
 1/e of its initial value (the kinetic module's definition, on the binned f).  Errors of MD
 quantities come from the spread between groups of realisations (jackknife).
+
+Thermal control (optional, per N): an ensemble of the thermal state of the same energy with the
+same N, realisations, bins, time step and schedule.  Its entropy should stay flat; its mean
+offset from S_eq is the measurement floor of the deficit (finite sample: the plug-in entropy of
+M counts in B bins is low by about (B - 1) / 2M; J-bar measured in a fluctuating field:
+histograms broadened), and t_R is also given with the deficit measured against it.
 """
 
 from __future__ import annotations
@@ -103,13 +109,40 @@ def own_energy_thermal(energy0, M_end):
     }
 
 
-def compare_relaxation(md, kinetic, state, thermal):
+def thermal_control(ctrl, edges, S_eq):
+    """The measurement floor from a thermal-control ensemble `ctrl` (a relaxation_md dataset
+    drawn from the thermal state of the case's energy, binned on `edges`; S_eq: that state's
+    coarse-grained entropy on them).  Returns a dict of (estimate, jackknife error) pairs:
+    S (per sample), offset = time mean of S - S_eq, drift = S(last) - S(first)."""
+    if not np.array_equal(ctrl["jbar_edges"].values, edges):
+        raise ValueError("the thermal control must share the ensembles' J-bar bins")
+    G = _groups(ctrl["hist"].values, ctrl["overflow"].values, N_GROUPS)
+
+    def entropy(g):
+        return _coarse_entropy(_pooled_P(g), edges)
+
+    return {
+        "t": np.asarray(ctrl["t"].values, dtype=float),
+        "S": jackknife(G, entropy),
+        "offset": tuple(float(x) for x in jackknife(G, lambda g: entropy(g).mean() - S_eq)),
+        "drift": tuple(
+            float(x) for x in jackknife(G, lambda g: (lambda S: S[-1] - S[0])(entropy(g)))
+        ),
+    }
+
+
+def compare_relaxation(md, kinetic, state, thermal, controls=()):
     """Compare the ensembles `md` (list of relaxation_md datasets of one case, any N) with
     the kinetic evolutions `kinetic` ({equation: relaxation dataset}).
 
-    state: the initial state; thermal: the thermal state of its energy.  Returns (dataset,
-    rows for the CSV, summary dict)."""
+    state: the initial state; thermal: the thermal state of its energy; controls: thermal-
+    control ensembles (any subset of the N of `md`, same schedule).  Returns (dataset, rows for
+    the CSV, summary dict)."""
     md = sorted(md, key=lambda d: int(d.attrs["n_particles"]))
+    ctrl_by_n = {int(c.attrs["n_particles"]): c for c in controls}
+    unmatched = sorted(set(ctrl_by_n) - {int(d.attrs["n_particles"]) for d in md})
+    if unmatched:
+        raise ValueError(f"thermal controls at N = {unmatched} have no ensemble of the state")
     edges = np.asarray(md[0]["jbar_edges"].values, dtype=float)
     for d in md[1:]:
         if not np.array_equal(d["jbar_edges"].values, edges):
@@ -162,6 +195,23 @@ def compare_relaxation(md, kinetic, state, thermal):
             for m in MEASURE_NAMES
             if "hist" + m in d
         }
+        control = None
+        if n in ctrl_by_n:
+            control = thermal_control(ctrl_by_n[n], edges, S_eq)
+            if not np.allclose(control["t"], t):
+                raise ValueError(f"the thermal control at N = {n} has another schedule")
+            # the deficit against the control's level S_eq + offset
+            control["t_relax"] = tuple(
+                float(x)
+                for x in jackknife(
+                    G,
+                    lambda g, t=t, lvl=-control["offset"][0]: relaxation_time(
+                        t,
+                        S_eq - _coarse_entropy(_pooled_P(g), edges),
+                        floor=lvl,
+                    ),
+                )
+            )
         floor = np.sqrt(2.0 / np.pi) * P_err.sum(axis=-1)
         cols = {"M": {}, "S": {}, "d": {}, "d_err": {}, "P": {}}
         for eq, k in kin.items():
@@ -209,6 +259,7 @@ def compare_relaxation(md, kinetic, state, thermal):
                 own_eq=own_eq,
                 cols=cols,
                 floor=floor,
+                control=control,
             )
         )
     ns = np.array([p["n"] for p in per_n], dtype=float)
@@ -232,6 +283,11 @@ def compare_relaxation(md, kinetic, state, thermal):
         "t_relax_md_measures": {p["n"]: p["t_relax_measures"] for p in per_n},
         "M0_thermal_u0": float(thermal.M0),
         "own_energy_thermal": {p["n"]: p["own_eq"] for p in per_n if p["own_eq"]},
+        "thermal_control": {
+            p["n"]: {k: p["control"][k] for k in ("offset", "drift", "t_relax")}
+            for p in per_n
+            if p["control"]
+        },
     }
     ds = _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary)
     return ds, rows, summary
@@ -388,6 +444,43 @@ def _comparison_dataset(per_n, kin, edges, P_eq, P_0, summary):
             "1",
             f"jackknife error of l1_distance_{eq}",
         )
+    nan_t = np.full(tau.shape, np.nan)
+
+    def control_of(p, key, k):
+        c = p["control"]
+        return nan_t if c is None else np.interp(tau, p["tau"], c[key][k])
+
+    def control_scalar(p, key, k):
+        return np.nan if p["control"] is None else p["control"][key][k]
+
+    data["S_control"] = variable(
+        ("N", "tau"),
+        np.stack([control_of(p, "S", 0) for p in per_n]),
+        "1",
+        "coarse-grained entropy of the thermal-control ensemble (thermal state of energy u0, "
+        "same N, realisations, bins and schedule); NaN where none was run",
+    )
+    data["S_control_err"] = variable(
+        ("N", "tau"),
+        np.stack([control_of(p, "S", 1) for p in per_n]),
+        "1",
+        "jackknife error of S_control",
+    )
+    for key, long_name in (
+        ("offset", "time mean of S_control - S_thermal: the floor of the entropy deficit"),
+        ("drift", "S_control at the last sample minus at the first"),
+        (
+            "t_relax",
+            "t_relax_md with the deficit measured against the control's level "
+            "S_thermal + control_offset (time)",
+        ),
+    ):
+        units = "time" if key == "t_relax" else "1"
+        name = "t_relax_md_vs_control" if key == "t_relax" else f"control_{key}"
+        data[name] = variable(("N",), [control_scalar(p, key, 0) for p in per_n], units, long_name)
+        data[f"{name}_err"] = variable(
+            ("N",), [control_scalar(p, key, 1) for p in per_n], units, f"jackknife error of {name}"
+        )
     data["l1_distance_noise_floor"] = variable(
         ("N", "tau"),
         np.stack([np.interp(tau, p["tau"], p["floor"]) for p in per_n]),
@@ -456,6 +549,20 @@ def summary_lines(summary):
                 f"    N = {n}: <u_r> = {e[0]:.5f} +- {e[1]:.5f}, <M0_thermal(u_r)> = "
                 f"{mt[0]:.5f} +- {mt[1]:.5f}, <|M|> at the last sample {me[0]:.5f} +- {me[1]:.5f}, "
                 f"difference {dm[0]:+.5f} +- {dm[1]:.5f}"
+            )
+    ctrl = summary.get("thermal_control", {})
+    if ctrl:
+        out.append(
+            "  thermal control (the thermal state of energy u0, same N, realisations, bins and "
+            "schedule): its entropy offset from S_eq (time mean; the floor of the deficit), its "
+            "drift from the first to the last sample, and t_R with the deficit measured against "
+            "the control's level:"
+        )
+        for n, c in ctrl.items():
+            (o, oe), (d, de), (tr, tre) = c["offset"], c["drift"], c["t_relax"]
+            out.append(
+                f"    N = {n}: offset {o:+.5f} +- {oe:.5f}, drift {d:+.5f} +- {de:.5f}, "
+                f"t_R/N = {tr / n:.4g} +- {tre / n:.2g}"
             )
     meas = summary.get("t_relax_md_measures", {})
     if any(meas.values()):

@@ -398,8 +398,17 @@ def _check_ensembles(config, states, block, settings, min_realisations):
 
 
 def _check_relaxation_md(config, states):
-    """Each N-body relaxation (`_check_ensembles`, one realisation allowed)."""
+    """Each N-body relaxation (`_check_ensembles`, one realisation allowed); thermal controls
+    only at sizes that have an ensemble of the state."""
     _check_ensembles(config, states, "relaxation_md", config.get("relaxation_md") or {}, 1)
+    for case, spec in (config.get("relaxation_md") or {}).get("runs", {}).items():
+        extra = sorted(set(spec.get("control_sizes", [])) - set(spec["n_particles"]))
+        if extra:
+            raise ConfigError(
+                f"relaxation_md run '{case}': field 'control_sizes' = {extra!r} not among "
+                f"n_particles = {list(spec['n_particles'])!r} (a control is compared with the "
+                "state's ensemble of the same N)"
+            )
 
 
 def _check_relaxation_rates(config, states):

@@ -294,7 +294,9 @@ _FIGURE_LIST = (
         "independent realisations at several N) against the Lenard-Balescu and Landau "
         "evolutions (eq. hmflb) at matched rescaled time t/N: (a) mean |M| with its standard "
         "error, (b) coarse-grained entropy of the J-bar histogram (dotted: the thermal state of "
-        "the same energy), (c) L1 distance sum_b |P_b(MD) - P_b(LB)| between the binned f with "
+        "the same energy; dashed: the N-body ensemble of that thermal state at the same N, "
+        "realisations, bins and times, where run: the measurement's floor), (c) L1 distance "
+        "sum_b |P_b(MD) - P_b(LB)| between the binned f with "
         "its jackknife error and the distance expected from sampling noise alone (dotted), (d) "
         "f(J-bar) snapshots of the largest N at three times (markers; empty bins not drawn, "
         "J-bar range of the occupied bins) and Lenard-Balescu (lines).",
@@ -307,8 +309,10 @@ _FIGURE_LIST = (
         (Inputs("relaxation_comparison", "relaxation_comparison/{case}.nc"),),
         "Fig. 13: relaxation time t_R (HMF time) of the N-body ensembles, the time at which the "
         "coarse-grained entropy deficit S_eq - S of the J-bar histogram has fallen by e, with "
-        "its jackknife error over groups of realisations, against N on log axes, with the "
-        "fitted power law and its exponent, and the kinetic predictions t_R = tau_R^coarse N of "
+        "its jackknife error over groups of realisations, against N on log axes (open squares, "
+        "where a thermal control was run: the deficit measured against the control's entropy "
+        "instead of the theory's S_eq), with the fitted power law and its exponent, and the "
+        "kinetic predictions t_R = tau_R^coarse N of "
         "the Lenard-Balescu and Landau equations (same definition on the same bins; not the "
         "fine-grained tau_R^fine of figure 11).",
         _RELAX_CAT,

@@ -99,6 +99,9 @@ def fig12_relaxation_md(inputs, pdf, png):
         for i in range(ds["N"].size):
             s, e = ds["S_md"].values[i], ds["S_md_err"].values[i]
             ax.errorbar(tau[pos], s[pos], e[pos], color=cols[i], lw=0.8, ms=2, fmt="o-")
+            if "S_control" in ds and np.isfinite(ds["S_control"].values[i]).any():
+                sc = ds["S_control"].values[i]
+                ax.plot(tau[pos], sc[pos], color=cols[i], lw=0.8, ls="--")
         for eq, label, c, ls in _KIN:
             if f"S_{eq}" in ds:
                 ax.plot(tau[pos], ds[f"S_{eq}"].values[pos], color=c, ls=ls, lw=1.2, label=label)
@@ -106,7 +109,7 @@ def fig12_relaxation_md(inputs, pdf, png):
         ax.set_xscale("log")
         ax.set_xlabel(rf"$\tau = t/N$ ({HMF})")
         ax.set_ylabel(r"coarse-grained $S$")
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=6, title="dashed: thermal control, same $N$", title_fontsize=6)
         ax = row[2]
         for i in range(ds["N"].size):
             d = ds["l1_distance_lenard_balescu"].values[i]
@@ -140,6 +143,16 @@ def fig13_relaxation_time(inputs, pdf, png):
         n = ds["N"].values.astype(float)
         tr, te = ds["t_relax_md"].values, ds["t_relax_md_err"].values
         ax.errorbar(n, tr, te, fmt="o", color="C0", label="MD(full) ensembles")
+        if "t_relax_md_vs_control" in ds and np.isfinite(ds["t_relax_md_vs_control"]).any():
+            ax.errorbar(
+                n * 1.04,
+                ds["t_relax_md_vs_control"].values,
+                ds["t_relax_md_vs_control_err"].values,
+                fmt="s",
+                mfc="none",
+                color="C0",
+                label="MD, deficit to the thermal control's level",
+            )
         grid = np.geomspace(n.min() / 1.5, n.max() * 1.5, 50)
         a, ae, amp = ds.attrs["exponent"], ds.attrs["exponent_err"], ds.attrs["prefactor"]
         if np.isfinite(a):
