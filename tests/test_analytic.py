@@ -605,3 +605,29 @@ def test_against_numerical_modules():
     ncc, nss = dielectric_tensor(th, x, l_max=6)
     mine = np.array([general_eps_quadrature(th, o, 6) for o in x]).T
     assert np.max(np.abs(ncc - mine[0])) < 1e-6 and np.max(np.abs(nss - mine[1])) < 1e-6
+
+
+def test_appendix_c_is_flagged_where_it_does_not_apply_and_warns_nowhere():
+    """Appendix C expands in 1/(beta M0): the file says where that holds (M0 = 0.9, 0.95: 0.19,
+    0.10) and where not (M0 = 0.05: 10.0), and computing it on the default grids raises no
+    floating-point warning; at the logarithmic end-point divergence omega = 3 sqrt(M0)/2 the
+    real part of eps_cc is infinite and the imaginary part finite (not NaN)."""
+    import warnings
+
+    from hmfdiff.kinetic.closed_forms import closed_forms
+    from hmfdiff.meanfield.equilibrium import ThermalState, thermal_beta
+    from hmfdiff.pipeline.layouts import closed_forms_dataset
+
+    for M0, applies in ((0.05, 0), (0.9, 1), (0.95, 1)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            ds = closed_forms_dataset(closed_forms(ThermalState(M0=M0), n_kappa=50))
+        assert ds.attrs["dielectric_applies"] == applies
+        beta = thermal_beta(M0)
+        assert ds.attrs["dielectric_expansion_parameter"] == pytest.approx(1 / (beta * M0))
+    s = np.sqrt(0.95)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ecc, ess = A.mb_dielectric_appendix_c(np.array([1.5 * s, 0.75 * s]), 0.95)
+    assert np.isinf(ecc[0].real) and np.isfinite(ecc[0].imag)
+    assert np.isinf(ess[1].real) and np.isfinite(ess[1].imag)

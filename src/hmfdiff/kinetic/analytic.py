@@ -325,10 +325,17 @@ def _mb_half(om, M0, beta, f0):
         in_ss = (a_ss > 0) & (a_ss < 1)
         im_cc = np.where(in_cc, np.pi * a_cc**2 * np.exp(-b * np.where(in_cc, a_cc, 0.0)), 0.0)
         im_ss = np.where(in_ss, np.pi * a_ss * np.exp(-b * np.where(in_ss, a_ss, 0.0)), 0.0)
-    # 1/((s/4)(a - x) - i0) = (4/s) [PV 1/(a - x) + i pi delta(x - a)]
-    Icc = pref * (4.0 / s) * (i2 + 1j * im_cc)
-    Iss = pref * (4.0 / s) * (i1 + 1j * im_ss)
-    return Icc, Iss
+    # 1/((s/4)(a - x) - i0) = (4/s) [PV 1/(a - x) + i pi delta(x - a)]; real and imaginary
+    # parts scaled apart: at the logarithmic end-point divergence the real part is infinite
+    # and the imaginary part finite (a complex product would make both NaN)
+    c = pref * 4.0 / s
+    return _complex(c * i2, c * im_cc), _complex(c * i1, c * im_ss)
+
+
+def _complex(re, im):
+    out = np.empty(np.broadcast(re, im).shape, dtype=complex)
+    out.real, out.imag = re, im
+    return out
 
 
 def mb_dielectric_appendix_c(omega, M0):
@@ -353,8 +360,9 @@ def mb_dielectric_appendix_c(omega, M0):
     cc_p, ss_p = _mb_half(om, M0, beta, f0)
     cc_m, ss_m = _mb_half(-om, M0, beta, f0)
     # l = -2 (-1) term: 1/(Omega + (omega + i0)/l') = conj of the l > 0 half at -omega
-    eps_cc = 1.0 + (np.pi / 2.0) * (cc_p + np.conj(cc_m))
-    eps_ss = 1.0 + 2.0 * np.pi * (ss_p + np.conj(ss_m))
+    cc, ss = cc_p + np.conj(cc_m), ss_p + np.conj(ss_m)
+    eps_cc = _complex(1.0 + (np.pi / 2.0) * cc.real, (np.pi / 2.0) * cc.imag)
+    eps_ss = _complex(1.0 + 2.0 * np.pi * ss.real, 2.0 * np.pi * ss.imag)
     return eps_cc, eps_ss
 
 

@@ -8,9 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..meanfield.equilibrium import thermal_beta
 from . import analytic
 
-__all__ = ["closed_forms"]
+__all__ = ["closed_forms", "APPENDIX_C_MAX_EXPANSION"]
+
+#: appendix C expands in 1/(beta M0) (harmonic, deeply librating orbits, M0 -> 1): flagged as
+#: applicable up to 0.2 (M0 >= 0.9; M0 = 0.95: 0.1), outside it stored but flagged
+APPENDIX_C_MAX_EXPANSION = 0.2
 
 
 def closed_forms(
@@ -26,7 +31,9 @@ def closed_forms(
 
     Returns a dict: 'kappa', 'omega', 'M0'; 'D' {name: N D on kappa}; 'eps' {'cc', 'ss':
     complex on omega} (empty without a closed-form tensor); 'dielectric_method' (None without
-    one); 'n_max', 'l_max', 'separatrix_band'.
+    one); 'expansion_parameter' (1/(beta M0) for appendix C, else NaN) and 'applies' (False
+    where appendix C is used beyond APPENDIX_C_MAX_EXPANSION); 'n_max', 'l_max',
+    'separatrix_band'.
     """
     M0 = state.M0
     kappa = np.linspace(kappa_min, 1.0 - separatrix_band, int(n_kappa))
@@ -40,6 +47,7 @@ def closed_forms(
         D["Dpol_landau_sech4"] = analytic.landau_Dpol_sech4(kappa, state)
     eps = {}
     method = None
+    expansion, applies = np.nan, True
     if getattr(state, "shape", "") == "step":
         ecc, ess = analytic.two_step_dielectric(omega, state, l_max=l_max)
         D["D_lenard_balescu_closed"] = analytic.two_step_D(
@@ -50,6 +58,8 @@ def closed_forms(
         ecc, ess = analytic.mb_dielectric_appendix_c(omega, M0)
         D["D_lenard_balescu_closed"] = analytic.mb_D_appendix_c(kappa, M0)
         method = "Maxwell-Boltzmann M0 -> 1, appendix C (eps_cc_ap, eps_ss_ap, corrected)"
+        expansion = 1.0 / (thermal_beta(M0) * M0)
+        applies = bool(expansion <= APPENDIX_C_MAX_EXPANSION)
     if method is not None:
         eps = {"cc": np.asarray(ecc, dtype=complex), "ss": np.asarray(ess, dtype=complex)}
     return {
@@ -59,6 +69,9 @@ def closed_forms(
         "D": D,
         "eps": eps,
         "dielectric_method": method,
+        "expansion_parameter": float(expansion),
+        "applies": applies,
+        "applies_up_to": APPENDIX_C_MAX_EXPANSION,
         "n_max": n_max,
         "l_max": l_max,
         "separatrix_band": separatrix_band,

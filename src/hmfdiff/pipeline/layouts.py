@@ -366,6 +366,21 @@ def closed_forms_dataset(forms):
         dielectric_method=method or "none",
         D_convention="<dJ^2> = 2 D dt; N*D stored",
     )
+    if np.isfinite(forms.get("expansion_parameter", np.nan)):
+        ds.attrs.update(
+            dielectric_expansion_parameter=float(forms["expansion_parameter"]),
+            dielectric_applies=int(forms["applies"]),
+            dielectric_validity=(
+                "expansion in 1/(beta M0), applicable up to "
+                f"{forms['applies_up_to']:g}: "
+                + (
+                    "applies here"
+                    if forms["applies"]
+                    else "does NOT apply here (stored for "
+                    "comparison only; eps_* and D_lenard_balescu_closed are not this state's)"
+                )
+            ),
+        )
     return ds
 
 
