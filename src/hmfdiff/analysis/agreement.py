@@ -15,7 +15,8 @@ For each case and dynamics, and pooled over all of them:
 
 The same for the finite-time (windowed) theory, with `ratio_windowed` and `z_windowed`.
 `python -m hmfdiff.analysis.agreement results/validation.csv` prints the summary; with
-`--markdown` the table the README includes.
+`--markdown` the two tables, with `--readme` the block the README includes (both tables and the
+|z| > 3 bins by name; `tests/test_readme_numbers.py` checks the README against it).
 """
 
 from __future__ import annotations
@@ -26,7 +27,14 @@ import sys
 import numpy as np
 from scipy import stats
 
-__all__ = ["SELECTION", "agreement", "summary_text", "markdown_table", "read_rows"]
+__all__ = [
+    "SELECTION",
+    "agreement",
+    "summary_text",
+    "markdown_table",
+    "readme_block",
+    "read_rows",
+]
 
 SELECTION = (
     "bins with flag 0: at least md.min_particles particles, |kappa0 - 1| >= "
@@ -176,6 +184,27 @@ def markdown_table(rows, comparison="asymptotic"):
     return "\n".join([head, *body])
 
 
+def readme_block(rows):
+    """The README's block: per comparison its table and its bins with |z| > 3 by name."""
+    out = []
+    for comparison, (ratio, z, _) in COMPARISONS.items():
+        what = "asymptotic" if comparison == "asymptotic" else "windowed (finite-time)"
+        out += [f"MD against the {what} theory:", "", markdown_table(rows, comparison), ""]
+        bad = [
+            "- " + _outlier_name(r, ratio, z)
+            for e in agreement(rows, comparison)
+            if e["case"] != "all" and e["bins"]
+            for r in e["outliers"]
+        ]
+        out += (
+            [f"Bins with |z| > {OUTLIER_Z:g}:", "", *bad]
+            if bad
+            else [f"No bin with |z| > {OUTLIER_Z:g}."]
+        )
+        out.append("")
+    return "\n".join(out).rstrip() + "\n"
+
+
 def read_rows(path):
     """The rows of a validation.csv, numbers as floats, flag and n_seeds as integers."""
     rows = []
@@ -198,9 +227,13 @@ def main(argv=None):
     markdown = "--markdown" in argv
     paths = [a for a in argv if not a.startswith("--")]
     if len(paths) != 1:
-        sys.exit("usage: python -m hmfdiff.analysis.agreement VALIDATION_CSV [--markdown]")
+        sys.exit(
+            "usage: python -m hmfdiff.analysis.agreement VALIDATION_CSV [--markdown | --readme]"
+        )
     rows = read_rows(paths[0])
-    if markdown:
+    if "--readme" in argv:
+        print(readme_block(rows), end="")
+    elif markdown:
         print("MD against the asymptotic theory:\n")
         print(markdown_table(rows, "asymptotic"))
         print("\nMD against the windowed theory:\n")
