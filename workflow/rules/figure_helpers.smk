@@ -1,6 +1,4 @@
 # ---- figures: everything about them comes from the registry in src ----------------------
-import re
-
 from hmfdiff.analysis.figures.registry import FIGURES
 
 
@@ -18,13 +16,6 @@ def figure_inputs(wildcards):
     }
     files["lib"] = lib("figure.py")
     return files
-
-
-def caption_rst(name):
-    """The registry's caption of one figure as literal reStructuredText for the report: its
-    |eps_cc|, c_n' and * would otherwise be read as substitutions, references and emphasis.
-    """
-    return re.sub(r"([\\`*_|])", r"\\\1", FIGURES[name].caption)
 
 
 def figure_names():

@@ -25,7 +25,8 @@ rule figure:
         runtime=15,
     params:
         spec=lambda w: json.dumps(figure_spec(w.name), sort_keys=True),
-        caption=lambda w: caption_rst(w.name),
+        # the registry's caption as it reads (the report's template escapes it for RST)
+        caption=lambda w: FIGURES[w.name].caption,
     script:
         "../scripts/figure.py"
 

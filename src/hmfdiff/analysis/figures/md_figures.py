@@ -26,8 +26,13 @@ def fig08_dj2(inputs, pdf, png):
             good[np.linspace(0, good.size - 1, min(4, good.size)).astype(int)] if good.size else []
         )
         step = max(1, lag.size // 40)
+        # the power of ten goes into the axis label (matplotlib's offset text would sit on the
+        # panel title)
+        top = np.nanmax(fit["msd"].values[pick]) if len(pick) else 1.0
+        k = int(np.floor(np.log10(top))) if np.isfinite(top) and top > 0 else 0
+        scale = 10.0**-k
         for i, col in zip(pick, plt.cm.viridis(np.linspace(0, 0.85, len(pick))), strict=False):
-            y = fit["msd"].values[i]
+            y = fit["msd"].values[i] * scale
             ax.plot(
                 lag[::step],
                 y[::step],
@@ -36,14 +41,16 @@ def fig08_dj2(inputs, pdf, png):
                 color=col,
                 label=rf"$J_0={sci(fit['J0'][i])}$ ($\kappa_0={float(fit['kappa0'][i]):.2f}$)",
             )
-            slope = 2.0 * float(fit["ND_md"][i]) / N
+            slope = 2.0 * float(fit["ND_md"][i]) / N * scale
+            b = float(fit["intercept"][i]) * scale
             x = np.linspace(0, lag.max(), 50)
-            ax.plot(x, slope * x + float(fit["intercept"][i]), "--", color=col, lw=0.8)
+            ax.plot(x, slope * x + b, "--", color=col, lw=0.8)
             xs = np.linspace(w0, w1, 20)
-            ax.plot(xs, slope * xs + float(fit["intercept"][i]), "-", color=col, lw=1.4)
+            ax.plot(xs, slope * xs + b, "-", color=col, lw=1.4)
         ax.axvspan(w0, w1, color="0.92", zorder=0)
         ax.set_xlabel(rf"time lag $\Delta t$ ({HMF})")
-        ax.set_ylabel(rf"$\langle\delta J^2\rangle(\Delta t)$ ({HMF})")
+        unit = rf"$10^{{{k}}}$ {HMF}" if k else HMF
+        ax.set_ylabel(rf"$\langle\delta J^2\rangle(\Delta t)$ ({unit})")
         ax.legend(fontsize=6.5)
         titles.append(
             rf"MD(full), $M_0={sci(fit['M0'], 4)}$, $N={sci(N)}$; "
@@ -106,6 +113,9 @@ def _md_vs_theory(inputs, pdf, png, title):
                     label="flagged bins (few particles / separatrix)",
                 )
             ax.axvline(jsep, color="0.6", lw=0.9)
+            if ok.any():  # the y range of the MD points (the theory can fall far below them)
+                low = np.nanmin((y - np.where(np.isfinite(e), e, 0))[ok])
+                ax.set_ylim(bottom=max(low, np.nanmin(y[ok]) / 10) / 3)
             ax.set_xlabel(rf"$\bar J$ ($J/2$ for $\kappa<1$; {HMF})")
             ax.set_ylabel(rf"$N D_{{dif}}$ ({HMF})")
             ax.set_xlim(0, xmax)
