@@ -15,6 +15,11 @@ refined from 600 to 900 nodes or coarsened to 300 (each line gives tau_R);
 `--study separatrix` (issue 20) the initial rate dM0/dtau at tau = 0 on grids of 150-2400
 nodes, the continuum numerator 4 pi int G-bar dc0 per decade of |kappa - 1| (Fokker-Planck
 current of the analytic state) and the references of tests/test_relaxation_convergence.py.
+`--study band` (issues 20, 21) the relaxation time with f lumped across |kappa - 1| <
+separatrix_band = 1/(M0 sqrt N), the width over which N particles' fluctuating magnetisation
+moves the separatrix, for N = 1e3, 4e3, 1.6e4 (and 0), on 300 and 600 nodes: tau_R (fine) and
+tau_R^coarse on the N-body ensembles' J-bar bins (40 bins to kappa = 3 at the initial M0, as
+relaxation_md), to set against the N-body t_R/N of results/relaxation_comparison_summary.txt.
 
 Measured 2026-11-25 (issue 20; a 2-core machine under load ~14, so wall times are not costs):
 
@@ -219,10 +224,49 @@ def separatrix_study(case, equations):
         print(f"  lenard_balescu delta=1e-3 {clipped_moment(case, True, 1e-3):.5e}")
 
 
+def coarse_relaxation_time(case, out, kappa_max=3.0, n_bins=40):
+    """tau_R^coarse of an evolution on the N-body ensembles' J-bar bins (relaxation_compare's
+    definition: the deficit S_eq - S of the binned entropy fallen by e)."""
+    from hmfdiff.analysis.relaxation_md import (
+        PHASE_VOLUME_PER_JBAR,
+        kinetic_bin_fractions,
+        relaxation_time,
+        state_bin_fractions,
+    )
+    from hmfdiff.meanfield.equilibrium import ThermalState
+
+    state = make_state(CASES[case][0])
+    edges = np.linspace(0.0, float(orbits.rescaled_action(kappa_max, state.M0)), n_bins + 1)
+    dv = PHASE_VOLUME_PER_JBAR * np.diff(edges)
+
+    def entropy(P):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return -np.sum(np.where(P > 0, P * np.log(np.where(P > 0, P / dv, 1.0)), 0.0), -1)
+
+    S_eq = entropy(state_bin_fractions(ThermalState(u=state.u), edges))
+    S = entropy(kinetic_bin_fractions(out["jbar"], out["width"], out["f"], edges))
+    return relaxation_time(out["tau"], S_eq - S)
+
+
+def band_study(case, equations):
+    M0 = make_state(CASES[case][0]).M0
+    for eq in equations:
+        for n_part in (0, 1000, 4000, 16000):
+            band = 0.0 if n_part == 0 else 1.0 / (M0 * np.sqrt(n_part))
+            for n_nodes in (300, 600):
+                out, wall = run(case, eq, n_nodes=n_nodes, separatrix_band=band)
+                tc = coarse_relaxation_time(case, out)
+                print(
+                    f"{case} {eq} N = {n_part or 'inf'} (separatrix_band {band:.4f}), "
+                    f"{out['jbar'].size} nodes: tau_R^coarse = {tc:.4g}; {describe(out, wall)}",
+                    flush=True,
+                )
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument(
-        "--study", choices=["time", "nmax", "convergence", "separatrix"], default="time"
+        "--study", choices=["time", "nmax", "convergence", "separatrix", "band"], default="time"
     )
     ap.add_argument("--case", choices=sorted(CASES), default="ch2")
     ap.add_argument("--equations", nargs="+", choices=EQUATIONS, default=list(EQUATIONS))
@@ -240,6 +284,8 @@ def main():
                 print(f"{head}; {describe(out, wall)}")
     elif args.study == "separatrix":
         separatrix_study(args.case, args.equations)
+    elif args.study == "band":
+        band_study(args.case, args.equations)
     else:
         for eq in args.equations:
             ref, wall = run(args.case, eq)

@@ -67,7 +67,15 @@ def _family_centred(cdf, kf, n_nodes):
     return np.concatenate((lib, rot))
 
 
-def action_grid(M0, n_nodes, kappa_max, state=None, feature_share=0.25, separatrix_share=0.4):
+def action_grid(
+    M0,
+    n_nodes,
+    kappa_max,
+    state=None,
+    feature_share=0.25,
+    separatrix_share=0.4,
+    separatrix_band=0.0,
+):
     """n_nodes cell-centred J-bar nodes on (0, J-bar(kappa_max)) at magnetisation M0.
 
     Uniform in kappa, except that with a state F(h) a share `feature_share` of the nodes is
@@ -82,6 +90,14 @@ def action_grid(M0, n_nodes, kappa_max, state=None, feature_share=0.25, separatr
     1/(|kappa - 1| ln^3) derivative d<cos theta>/dM0) into the node quadratures of M0; with
     it, dM0 of the hot halo responded 2 % wrong at 150 nodes and its dF/dM0 scattered by a
     factor 2 from one n_nodes to the next (tests/test_relaxation_convergence.py).
+
+    separatrix_band > 0: no node within |kappa - 1| < separatrix_band.  The nodes there (and
+    those within half a cell of the band's edge) are replaced by one pair at J-bar_s -+ Delta,
+    Delta the J-bar distance of kappa = 1 + separatrix_band from the separatrix (which stays a
+    face): f has no structure inside the band, where the orbit-averaged theory does not hold
+    (the fluctuating magnetisation of N particles moves the separatrix by |delta kappa| ~
+    1/(M0 sqrt N)), while the band's resonances are all kept (the collision operator's
+    sub-cells still span it).  The grid then has a few nodes fewer than n_nodes.
     """
     if n_nodes < 8 or not kappa_max > 1.0:
         raise ValueError(f"action grid: n_nodes = {n_nodes} must be >= 8, kappa_max > 1")
@@ -104,8 +120,23 @@ def action_grid(M0, n_nodes, kappa_max, state=None, feature_share=0.25, separatr
         kappa = np.interp(_family_centred(cdf, kf, n_nodes) * cdf[-1], cdf, kf)
     kappa = np.where(np.abs(kappa - 1.0) < 1e-9, 1.0 + 1e-9, kappa)
     jbar = orbits.rescaled_action(kappa, M0)
+    if separatrix_band > 0.0:
+        jbar = _clear_separatrix_band(jbar, M0, separatrix_band)
     edges = np.concatenate(([0.0], 0.5 * (jbar[1:] + jbar[:-1]), [1.5 * jbar[-1] - 0.5 * jbar[-2]]))
     return ActionGrid(jbar, np.diff(edges))
+
+
+def _clear_separatrix_band(jbar, M0, band):
+    """The nodes outside |kappa - 1| < band (and half a cell beyond its edges), and one pair at
+    J-bar_s -+ Delta, Delta = J-bar(1 + band) - J-bar_s (`action_grid`)."""
+    js = orbits.jbar_separatrix(M0)
+    delta = float(orbits.rescaled_action(np.array([1.0 + band]), M0)[0]) - js
+    if not 0.0 < delta < min(js, jbar[-1] - js):
+        raise ValueError(f"action grid: separatrix_band = {band} does not fit the grid")
+    near = int(np.argmin(np.abs(np.abs(jbar - js) - delta)))
+    spacing = np.diff(jbar)[min(near, jbar.size - 2)]
+    keep = jbar[np.abs(jbar - js) >= delta + 0.5 * spacing]
+    return np.unique(np.concatenate((keep, [js - delta, js + delta])))
 
 
 def _node_c0(grid, M0):

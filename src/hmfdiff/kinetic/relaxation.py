@@ -72,6 +72,8 @@ class RelaxationSettings:
     flux_times: tuple = (0.0,)
     feature_share: float = 0.25
     separatrix_share: float = 0.4
+    #: no grid node within |kappa - 1| < separatrix_band (`grid.action_grid`; 0: none)
+    separatrix_band: float = 0.0
     eps_panels: int = 48
     eps_order: int = 20
     eps_refresh: float = 0.01
@@ -81,6 +83,8 @@ class RelaxationSettings:
             raise ValueError(f"equation = {self.equation!r}: must be one of {EQUATIONS}")
         if not self.rtol > 0 or not self.tau_max > 0:
             raise ValueError("rtol and tau_max must be > 0")
+        if not 0.0 <= self.separatrix_band < 0.5:
+            raise ValueError(f"separatrix_band = {self.separatrix_band!r}: must be in [0, 0.5)")
 
     def as_dict(self):
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
@@ -225,7 +229,15 @@ def evolve(state, settings, progress=None, operator=None):
     """
     s = settings
     t0 = time.perf_counter()
-    grid = action_grid(state.M0, s.n_nodes, s.kappa_max, state, s.feature_share, s.separatrix_share)
+    grid = action_grid(
+        state.M0,
+        s.n_nodes,
+        s.kappa_max,
+        state,
+        s.feature_share,
+        s.separatrix_share,
+        s.separatrix_band,
+    )
     f, M0 = project_state(state, grid)
     y = np.log(f)
     vol = grid.volume
