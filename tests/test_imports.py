@@ -70,3 +70,31 @@ def test_the_jit_settings_import_no_kernel():
     assert "hmfdiff.dynamics.md" in graph["hmfdiff.dynamics.kernel_cache"]
     top = import_graph(SRC, top_level=True)["hmfdiff.dynamics.kernel_cache"]
     assert top == {"hmfdiff.dynamics.jit"}  # importing it must not import a kernel
+
+
+#: imports of analysis/ inside functions of pipeline/, with the reason
+PIPELINE_READS_ANALYSIS = {
+    # the config check validates the config's figures against the figure registry: it serves
+    # the Snakefile, above every floor, and imports the registry (and through it the drawing
+    # modules) only when it checks figures, so that importing pipeline loads no analysis
+    "hmfdiff.pipeline.config": {"hmfdiff.analysis.figures.registry"},
+}
+
+
+def test_pipeline_does_not_import_analysis():
+    """pipeline/ (I/O, layouts, config) is a floor below analysis/, which imports it: no module
+    of pipeline imports analysis at module level, and inside functions only the exceptions
+    above."""
+    top, full = import_graph(SRC, top_level=True), import_graph(SRC)
+    pipeline = [m for m in full if m.split(".")[:2] == ["hmfdiff", "pipeline"]]
+    assert "hmfdiff.pipeline.io" in pipeline
+    for module in pipeline:
+        upward = {m for m in top[module] if m.startswith("hmfdiff.analysis")}
+        assert not upward, (module, upward)
+        upward = {m for m in full[module] if m.startswith("hmfdiff.analysis")}
+        allowed = {  # an allowed module and the packages that hold it (run on its import)
+            ".".join(m.split(".")[:i])
+            for m in PIPELINE_READS_ANALYSIS.get(module, ())
+            for i in range(2, m.count(".") + 2)
+        }
+        assert upward <= allowed, (module, upward - allowed)
