@@ -1,5 +1,5 @@
-"""Layouts of the relaxation wing, with the variable helper of `layouts`:
-results/relaxation_md/{case}/N{N}.nc, an ensemble of N-body relaxations.
+"""Layout of the N-body relaxation: results/relaxation_md/{case}/N{N}.nc, an ensemble of
+realisations of MD(full) from one initial state.
 
 The density and entropy of the histograms come from `meanfield.histograms` (mean-field physics,
 like the rest of the layouts)."""
@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..meanfield.histograms import density_from_histogram, entropy_from_histogram
-from .layouts import ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL
-from .layouts import variable as _var
+from ...meanfield.histograms import density_from_histogram, entropy_from_histogram
+from .variables import ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL
+from .variables import variable as _var
 
 __all__ = ["MEASURE_NAMES", "relaxation_md_dataset"]
 
