@@ -98,3 +98,19 @@ def test_pipeline_does_not_import_analysis():
             for i in range(2, m.count(".") + 2)
         }
         assert upward <= allowed, (module, upward - allowed)
+
+
+def test_each_layout_imports_only_its_helpers_and_the_mean_field():
+    """pipeline/layouts/: the package imports only the shared helpers (a script importing one
+    stage's layout does not watch the others, `pipeline.deps`), and no layout imports the
+    physics of a stage (kinetic, dynamics, analysis): only the mean field and pipeline's own."""
+    full = import_graph(SRC)
+    package = "hmfdiff.pipeline.layouts"
+    assert full[package] == {f"{package}.variables"}
+    stages = [m for m in full if m.startswith(package + ".")]
+    assert len(stages) >= 7, stages
+    for module in stages:
+        outside = {
+            m for m in full[module] if not m.startswith(("hmfdiff.meanfield", "hmfdiff.pipeline"))
+        }
+        assert not outside, (module, outside)
