@@ -66,7 +66,7 @@ from hmfdiff.kinetic.relaxation import (  # noqa: E402
 from hmfdiff.meanfield import orbits  # noqa: E402
 from hmfdiff.meanfield.equilibrium import make_state  # noqa: E402
 from hmfdiff.meanfield.fourier import cos_coefficient  # noqa: E402
-from hmfdiff.pipeline.kinetic_relaxation_layout import relaxation_times  # noqa: E402
+from hmfdiff.pipeline.layouts.kinetic_relaxation import relaxation_times  # noqa: E402
 
 CASES = {
     "ch2": (

@@ -27,7 +27,7 @@ from hmfdiff.kinetic.theory import theory_grid  # noqa: E402
 from hmfdiff.meanfield import orbits  # noqa: E402
 from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState  # noqa: E402
 from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient_imag  # noqa: E402
-from hmfdiff.pipeline.layouts import theory_dataset  # noqa: E402
+from hmfdiff.pipeline.layouts.theory import theory_dataset  # noqa: E402
 
 CASES = {
     "fig6a": lambda: ThermalState(u=-0.1),

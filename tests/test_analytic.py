@@ -616,7 +616,7 @@ def test_appendix_c_is_flagged_where_it_does_not_apply_and_warns_nowhere():
 
     from hmfdiff.kinetic.closed_forms import closed_forms
     from hmfdiff.meanfield.equilibrium import ThermalState, thermal_beta
-    from hmfdiff.pipeline.layouts import closed_forms_dataset
+    from hmfdiff.pipeline.layouts.theory import closed_forms_dataset
 
     for M0, applies in ((0.05, 0), (0.9, 1), (0.95, 1)):
         with warnings.catch_warnings():

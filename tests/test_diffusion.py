@@ -12,7 +12,7 @@ from hmfdiff.kinetic.theory import theory_grid
 from hmfdiff.meanfield import orbits
 from hmfdiff.meanfield.equilibrium import CoreHaloState, ThermalState
 from hmfdiff.meanfield.fourier import cos_coefficient, sin_coefficient, sin_coefficient_imag
-from hmfdiff.pipeline.layouts import theory_dataset
+from hmfdiff.pipeline.layouts.theory import theory_dataset
 
 KAPPA = np.array([0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.3, 1.6, 2.0])
 

@@ -15,7 +15,7 @@ import pytest
 import xarray as xr
 
 from hmfdiff.analysis.relaxation_rates import compare_rates, ensemble_changes
-from hmfdiff.pipeline.relaxation_layouts import relaxation_md_dataset
+from hmfdiff.pipeline.layouts.relaxation_md import relaxation_md_dataset
 
 EDGES = np.linspace(0.0, 1.0, 9)
 TAU = np.array([0.0, 0.05, 0.1, 0.2, 0.4])

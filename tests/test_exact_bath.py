@@ -17,7 +17,7 @@ from hmfdiff.dynamics.integrator import Field
 from hmfdiff.dynamics.settings import MDRun
 from hmfdiff.meanfield import equilibrium, orbits
 from hmfdiff.meanfield.fourier import cos_coefficient
-from hmfdiff.pipeline.layouts import md_dataset
+from hmfdiff.pipeline.layouts.md import md_dataset
 
 M0 = 0.72846
 

@@ -174,7 +174,7 @@ OTHER = {"bath": "lenard_balescu", "full": "landau"}
 def scaling(tmp_path_factory):
     """{(case, dynamics): (scaling dataset, [fit per N], theory, f)} of figure 15's smoke cases,
     and the smoke results folder."""
-    from hmfdiff.pipeline.layouts import state_from_dataset
+    from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
 
     workdir = smoke_workdir(tmp_path_factory)
     results = workdir / "results" / "smoke"

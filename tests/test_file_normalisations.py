@@ -23,7 +23,7 @@ from hmfdiff.meanfield import orbits
 from hmfdiff.meanfield.equilibrium import ThermalState, make_state
 from hmfdiff.meanfield.fourier import cos_coefficient
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.kinetic_relaxation_layout import kinetic_relaxation_dataset
+from hmfdiff.pipeline.layouts.kinetic_relaxation import kinetic_relaxation_dataset
 
 HOT = dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0)
 
@@ -178,7 +178,7 @@ def spectrum_file(tmp_path_factory):
     `spectrum_comparison`, `spectrum_dataset` and the writer; with the N var of the generated
     components of each seed."""
     from hmfdiff.analysis.md_spectrum import spectrum_comparison
-    from hmfdiff.pipeline.fluctuation_layouts import spectrum_dataset
+    from hmfdiff.pipeline.layouts.fluctuations import spectrum_dataset
 
     state = ThermalState(u=-0.1)
     seeds = {"bath": [_fake_md(s, 0.0) for s in (1, 2, 3)]}
@@ -333,7 +333,7 @@ def windowed_files(tmp_path_factory):
     narrow (+-0.2 % in J-bar) round kappa = 0.1 and 0.5, so that the bin average is the value
     at the centre to ~1e-5; bin 1 between them is not used."""
     from hmfdiff.analysis.windowed import windowed_at_bins
-    from hmfdiff.pipeline.fluctuation_layouts import windowed_dataset
+    from hmfdiff.pipeline.layouts.fluctuations import windowed_dataset
 
     state = ThermalState(u=-0.1)
     jc = orbits.rescaled_action(np.array(WINDOW_KAPPA), state.M0)

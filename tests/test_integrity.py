@@ -224,7 +224,7 @@ def test_validation_refuses_a_negative_theory_naming_the_variable(tmp_path):
 # ---- valid ranges declared by the writers (issue 20 part 8) ------------------------------
 def _layouts():
     from hmfdiff.meanfield.equilibrium import make_state
-    from hmfdiff.pipeline.layouts import equilibrium_dataset, orbits_dataset
+    from hmfdiff.pipeline.layouts.equilibrium import equilibrium_dataset, orbits_dataset
 
     state = make_state({"kind": "thermal", "M0": 0.6})
     return equilibrium_dataset(state, 64, 2.5), orbits_dataset(state.M0, 64, 2.5, 3)

@@ -10,7 +10,7 @@ from hmfdiff.dynamics import accumulator, elementary, integrator, md, sampling
 from hmfdiff.dynamics.integrator import Field
 from hmfdiff.dynamics.settings import MDRun
 from hmfdiff.meanfield import equilibrium, orbits
-from hmfdiff.pipeline.layouts import md_dataset
+from hmfdiff.pipeline.layouts.md import md_dataset
 
 M0 = 0.72846  # paper case (u, M0) = (-0.1, 0.72846)
 

@@ -22,7 +22,7 @@ from hmfdiff.meanfield.equilibrium import (
     thermal_M0_from_energy,
 )
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.kinetic_relaxation_layout import kinetic_relaxation_dataset
+from hmfdiff.pipeline.layouts.kinetic_relaxation import kinetic_relaxation_dataset
 
 CH2 = dict(kind="core_halo", eta1=0.298, eta2=0.051, mu1=-0.517, mu2=0.19, beta1=30.0, beta2=10.0)
 HOT = dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0)

@@ -18,7 +18,7 @@ import xarray as xr
 from scipy.optimize import brentq
 
 from hmfdiff.analysis import relaxation_compare as rc
-from hmfdiff.pipeline.relaxation_layouts import relaxation_md_dataset
+from hmfdiff.pipeline.layouts.relaxation_md import relaxation_md_dataset
 
 # J-bar bins: block A = bins 0-3 ([0, 0.4]), block B = bins 4-11 ([0.4, 1.2]); a fraction Q of
 # the particles lies beyond the last edge (overflow) at all times

@@ -15,7 +15,7 @@ from hmfdiff.kinetic.tabulated import PHASE_VOLUME_PER_JBAR
 from hmfdiff.meanfield import orbits
 from hmfdiff.meanfield.equilibrium import PhaseSpaceQuadrature
 from hmfdiff.meanfield.fourier import cos_coefficient
-from hmfdiff.pipeline.kinetic_relaxation_layout import relaxation_times
+from hmfdiff.pipeline.layouts.kinetic_relaxation import relaxation_times
 
 RTOL = 1e-3  # the default of RelaxationSettings
 

@@ -4,7 +4,8 @@ import json
 
 from hmfdiff.kinetic.closed_forms import closed_forms
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import closed_forms_dataset, state_from_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
+from hmfdiff.pipeline.layouts.theory import closed_forms_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

@@ -4,7 +4,7 @@ import json
 
 from hmfdiff.meanfield.equilibrium import make_state
 from hmfdiff.pipeline.io import write_dataset
-from hmfdiff.pipeline.layouts import equilibrium_dataset
+from hmfdiff.pipeline.layouts.equilibrium import equilibrium_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

@@ -15,7 +15,8 @@ import os  # noqa: E402
 from hmfdiff.dynamics.md import run_md  # noqa: E402
 from hmfdiff.dynamics.settings import MDRun  # noqa: E402
 from hmfdiff.pipeline.io import DEFAULT_TITLES, read_dataset, write_dataset  # noqa: E402
-from hmfdiff.pipeline.layouts import md_dataset, state_from_dataset  # noqa: E402
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset  # noqa: E402
+from hmfdiff.pipeline.layouts.md import md_dataset  # noqa: E402
 from hmfdiff.pipeline.runtime import get_logger, set_threads  # noqa: E402
 
 log = get_logger("md_scaling", sm.log[0])

@@ -3,7 +3,7 @@
 import json
 
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import orbits_dataset
+from hmfdiff.pipeline.layouts.equilibrium import orbits_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

@@ -8,8 +8,8 @@ from hmfdiff.kinetic.relaxation import RelaxationSettings, evolve
 from hmfdiff.kinetic.stability import check_vlasov_stable
 from hmfdiff.meanfield.equilibrium import ThermalState
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.kinetic_relaxation_layout import kinetic_relaxation_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
+from hmfdiff.pipeline.layouts.kinetic_relaxation import kinetic_relaxation_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

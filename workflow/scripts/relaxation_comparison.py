@@ -11,7 +11,7 @@ from hmfdiff.analysis.relaxation_compare import (
 )
 from hmfdiff.meanfield.equilibrium import ThermalState
 from hmfdiff.pipeline.io import atomic_path, read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

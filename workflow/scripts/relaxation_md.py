@@ -11,8 +11,8 @@ from hmfdiff.dynamics.ensemble import measurement_times, run_ensemble
 from hmfdiff.meanfield import orbits
 from hmfdiff.meanfield.equilibrium import ThermalState
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset
-from hmfdiff.pipeline.relaxation_layouts import relaxation_md_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
+from hmfdiff.pipeline.layouts.relaxation_md import relaxation_md_dataset
 from hmfdiff.pipeline.runtime import get_logger, set_threads
 
 sm = snakemake  # noqa: F821

@@ -5,9 +5,9 @@ import numpy as np
 
 from hmfdiff.analysis.fits import THEORY_OF
 from hmfdiff.analysis.scaling import OTHER_THEORY, drawn_bins, scaling_theory
-from hmfdiff.pipeline.fluctuation_layouts import scaling_dataset
 from hmfdiff.pipeline.io import check_physical, read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
+from hmfdiff.pipeline.layouts.fluctuations import scaling_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

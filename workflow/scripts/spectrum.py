@@ -2,9 +2,9 @@
 the bare and dressed bath spectra of the theory (results/spectrum/{case}.nc)."""
 
 from hmfdiff.analysis.md_spectrum import spectrum_comparison
-from hmfdiff.pipeline.fluctuation_layouts import spectrum_dataset
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
+from hmfdiff.pipeline.layouts.fluctuations import spectrum_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

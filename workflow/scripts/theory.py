@@ -5,7 +5,8 @@ import time
 
 from hmfdiff.kinetic.theory import theory_grid
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset, theory_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
+from hmfdiff.pipeline.layouts.theory import theory_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

@@ -4,7 +4,7 @@ from hmfdiff.analysis.agreement import summary_text
 from hmfdiff.analysis.fits import validation_rows, write_validation_csv
 from hmfdiff.analysis.windowed import add_windowed
 from hmfdiff.pipeline.io import read_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

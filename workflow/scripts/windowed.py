@@ -2,9 +2,9 @@
 per bin (results/windowed/{case}_{dynamics}.nc)."""
 
 from hmfdiff.analysis.windowed import windowed_at_bins
-from hmfdiff.pipeline.fluctuation_layouts import windowed_dataset
 from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.layouts import state_from_dataset
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
+from hmfdiff.pipeline.layouts.fluctuations import windowed_dataset
 from hmfdiff.pipeline.runtime import get_logger
 
 sm = snakemake  # noqa: F821

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..meanfield import orbits
 from ..pipeline.io import check_physical
-from ..pipeline.layouts import fit_dataset
+from ..pipeline.layouts.md import fit_dataset
 
 __all__ = [
     "FitError",

@@ -24,7 +24,7 @@ import xarray as xr
 
 from ..meanfield.equilibrium import thermal_M0_from_energy
 from ..pipeline.layouts import variable
-from ..pipeline.relaxation_layouts import MEASURE_NAMES
+from ..pipeline.layouts.relaxation_md import MEASURE_NAMES
 from .relaxation_md import (
     PHASE_VOLUME_PER_JBAR,
     interpolate_in_time,

@@ -1,11 +1,9 @@
 """N-body relaxation measured on ensembles: J-bar histograms as densities, their entropy, the
 distance to another distribution, and relaxation times.
 
-Phase-space volume per unit J-bar is 4 pi on both sides of the separatrix (librating: dw dJ
-with J = 2 J-bar; rotating: two directions of rotation with J = J-bar), so the fraction P_b of
-particles in a J-bar bin of width dJbar_b estimates f = P_b / (4 pi dJbar_b) there, and
-S = -int f ln f dtheta dp = -sum_b P_b ln f_b (the coarse-grained entropy of the binned f,
-which is >= the fine-grained one).
+The density and entropy of a histogram (`density_from_histogram`, `entropy_from_histogram`:
+f = P_b / (4 pi dJbar_b), the phase-space volume per unit J-bar being 4 pi) live in
+`meanfield.histograms`, which the file layouts of `pipeline` use too; they are re-exported here.
 """
 
 from __future__ import annotations
@@ -13,6 +11,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics import sampling
+from ..meanfield.histograms import (
+    PHASE_VOLUME_PER_JBAR,
+    bin_fractions,
+    density_from_histogram,
+    entropy_from_histogram,
+)
 
 __all__ = [
     "bin_fractions",
@@ -23,32 +27,6 @@ __all__ = [
     "relaxation_time",
     "power_law_fit",
 ]
-
-PHASE_VOLUME_PER_JBAR = 4.0 * np.pi
-
-
-def bin_fractions(hist, overflow=None):
-    """Fractions of particles per bin (last axis), counting overflow in the total."""
-    hist = np.asarray(hist, dtype=float)
-    total = hist.sum(axis=-1)
-    if overflow is not None:
-        total = total + np.asarray(overflow, dtype=float)
-    return hist / np.maximum(total, 1.0)[..., None]
-
-
-def density_from_histogram(hist, edges, overflow=None):
-    """f(J-bar) per bin (same shape as hist), normalised to one particle."""
-    width = np.diff(np.asarray(edges, dtype=float))
-    return bin_fractions(hist, overflow) / (PHASE_VOLUME_PER_JBAR * width)
-
-
-def entropy_from_histogram(hist, edges, overflow=None):
-    """S = -sum_b P_b ln(P_b / (4 pi dJbar_b)) over the last axis (empty bins contribute 0)."""
-    P = bin_fractions(hist, overflow)
-    f = P / (PHASE_VOLUME_PER_JBAR * np.diff(np.asarray(edges, dtype=float)))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        terms = np.where(P > 0, P * np.log(np.where(P > 0, f, 1.0)), 0.0)
-    return -terms.sum(axis=-1)
 
 
 def state_bin_fractions(state, edges):

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from .kernel_cache import njit
+from .jit import njit
 
 __all__ = ["DisplacementAccumulator"]
 

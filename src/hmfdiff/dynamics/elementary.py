@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import prange
 
-from .kernel_cache import njit
+from .jit import njit
 
 __all__ = ["sincos_array", "sincos_wrapped_array", "actions_from_kappa", "actions"]
 

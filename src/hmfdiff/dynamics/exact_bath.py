@@ -43,7 +43,7 @@ from numba import prange
 from ..meanfield import orbits
 from ..meanfield.fourier import cos_coefficient
 from .integrator import Field, Particles
-from .kernel_cache import njit
+from .jit import njit
 
 __all__ = ["MAX_HARMONICS", "ExactBath", "harmonic_amplitudes", "harmonics_needed"]
 

@@ -18,7 +18,7 @@ from numba import prange
 
 from . import sampling
 from .elementary import _CHUNK, _FM, _INV_TWO_PI, _TWO_PI, _sincos_wrapped, sincos_wrapped_array
-from .kernel_cache import njit
+from .jit import njit
 
 __all__ = ["INTEGRATOR", "Field", "Particles", "leapfrog", "advance_system", "advance_in_field"]
 

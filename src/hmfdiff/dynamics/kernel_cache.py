@@ -13,7 +13,9 @@ kernel into one directory at once (corrupted index, crashes).  So:
   signature), compiles it into its own copy: no two processes ever write the same directory.
 
 Outside the workflow (tests, benchmarks, interactive use) nothing is cached: the environment
-variable `ENABLE` is unset and `njit` is numba's with `cache=False`.
+variable `ENABLE` is unset and `njit` is numba's with `cache=False`.  `njit` and `ENABLE` live in
+`jit`, which the kernels import: this module imports the kernels (to compile them), not the
+other way round.
 """
 
 from __future__ import annotations
@@ -28,19 +30,12 @@ import sys
 import tempfile
 from pathlib import Path
 
-ENABLE = "HMFDIFF_KERNEL_CACHE"  # set (to the private cache directory) when caching is on
+from .jit import ENABLE
+
 _KERNEL_MODULES = ("elementary", "integrator", "accumulator", "exact_bath")
 _SOURCES = Path(__file__).resolve().parent
 
-__all__ = ["ENABLE", "njit", "kernel_version", "use_kernel_cache", "warm", "cache_counts"]
-
-
-def njit(*args, **kwargs):
-    """numba.njit with cache=True when `use_kernel_cache` has run in this process."""
-    import numba
-
-    kwargs.setdefault("cache", bool(os.environ.get(ENABLE)))
-    return numba.njit(*args, **kwargs)
+__all__ = ["ENABLE", "kernel_version", "use_kernel_cache", "warm", "cache_counts"]
 
 
 def kernel_version():

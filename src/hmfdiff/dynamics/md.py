@@ -5,7 +5,7 @@
 (`integrator`), measures the actions of the tracked particles at every sample (`elementary`)
 and feeds them to the <dJ^2> accumulator (`accumulator`); every setting comes from the
 `MDRun` record (`settings`).  It returns an `MDResult` of arrays, which
-`hmfdiff.pipeline.layouts.md_dataset` lays out as a netCDF file.
+`hmfdiff.pipeline.layouts.md.md_dataset` lays out as a netCDF file.
 
 * 'bath' (eq. hmfmdbath): N_b bath particles in the static field theta'' = -M0 sin(theta), M0 the
   state's theoretical magnetisation; N_tp test particles driven, without feedback, by the
@@ -50,7 +50,7 @@ def _default_progress(msg):
 
 @dataclasses.dataclass
 class MDResult:
-    """What one realisation measured, as arrays (laid out by `pipeline.layouts.md_dataset`).
+    """What one realisation measured, as arrays (laid out by `pipeline.layouts.md.md_dataset`).
 
     sums: (4, bin, lag, block) sums over (origin, particle) pairs of (J(t0+lag) - J(t0))^2,
     (Jbar(t0+lag) - Jbar(t0))^2, J(t0+lag) - J(t0) and 1 (eq. dj2); series: Mx, My, energy

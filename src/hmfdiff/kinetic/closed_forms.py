@@ -1,7 +1,7 @@
 """The paper's closed forms of one state tabulated on grids (results/analytic/{case}.nc), as
 arrays: the functions of `kinetic.analytic` on librating orbits and on an omega grid.
 
-`hmfdiff.pipeline.layouts.closed_forms_dataset` lays the result out as a file.
+`hmfdiff.pipeline.layouts.theory.closed_forms_dataset` lays the result out as a file.
 """
 
 from __future__ import annotations

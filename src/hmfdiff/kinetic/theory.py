@@ -3,7 +3,7 @@
 `theory_grid` evaluates, on a kappa grid on both sides of the separatrix, the Landau and
 Lenard-Balescu diffusion (N D_dif) and polarisation (N D_pol) coefficients in the action J,
 the resonance contributions gamma(kappa, kappa*) of fig. hmfcontribs, and the dielectric tensor
-on an omega grid.  `hmfdiff.pipeline.layouts.theory_dataset` lays the result out as a file.
+on an omega grid.  `hmfdiff.pipeline.layouts.theory.theory_dataset` lays the result out as a file.
 """
 
 from __future__ import annotations

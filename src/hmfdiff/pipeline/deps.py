@@ -13,7 +13,7 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-__all__ = ["library_files", "module_imports"]
+__all__ = ["library_files", "module_imports", "import_graph"]
 
 PACKAGE = "hmfdiff"
 
@@ -33,15 +33,31 @@ def _package_of(src, path):
     return ".".join(parts[:-1])  # a/b/c.py -> a.b; a/b/__init__.py -> a.b, itself
 
 
-def module_imports(path, src, package=None):
+def _import_nodes(tree, top_level):
+    """The import statements of a module: all of them, or (`top_level`) those that run when the
+    module is imported (module and class bodies, if/try/with blocks; not function bodies)."""
+    if not top_level:
+        yield from ast.walk(tree)
+        return
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        yield node
+        for child in ast.iter_child_nodes(node):
+            if not isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda):
+                todo.append(child)
+
+
+def module_imports(path, src, package=None, top_level=False):
     """Dotted names that the module at `path` imports from the package, as far as the code says.
 
     `package` is the dotted package holding `path` (None for a script outside `src`, whose
     relative imports, if any, are an error).  `from a.b import c` yields both `a.b` and
-    `a.b.c`; the caller keeps those that are modules."""
+    `a.b.c`; the caller keeps those that are modules.  `top_level`: only the imports that run
+    when the module is imported (not those inside functions)."""
     tree = ast.parse(Path(path).read_text(), filename=str(path))
     names = []
-    for node in ast.walk(tree):
+    for node in _import_nodes(tree, top_level):
         if isinstance(node, ast.Import):
             names += [alias.name for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
@@ -87,3 +103,26 @@ def library_files(script, src):
                 seen[name] = file
                 todo.append((file, _package_of(src, file)))
     return sorted(str(p) for p in seen.values())
+
+
+def import_graph(src, top_level=False):
+    """{module: set of modules it imports} over every module of the package under `src`
+    (dotted names; a package is its `__init__`).  Importing a.b.c runs the packages a and a.b
+    first, so they count as imported too, except the packages that hold the importer itself
+    (already running when it is imported).  `top_level` as in `module_imports`."""
+    src = Path(src)
+    graph = {}
+    for file in sorted(Path(src, PACKAGE).rglob("*.py")):
+        parts = file.relative_to(src).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        package = _package_of(src, file)
+        own = {".".join(parts[:i]) for i in range(1, len(parts))}
+        edges = set()
+        for dotted in module_imports(file, src, package, top_level):
+            pieces = dotted.split(".")
+            for i in range(1, len(pieces) + 1):
+                target = ".".join(pieces[:i])
+                if target not in own and target != name and _module_file(src, target):
+                    edges.add(target)
+        graph[name] = edges
+    return graph

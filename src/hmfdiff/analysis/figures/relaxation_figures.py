@@ -1,7 +1,7 @@
 """Figure 11: collisional relaxation by the Landau and Lenard-Balescu equations.
 
 Reads results/relaxation/{case}_{equation}.nc (`kinetic.relaxation.evolve`, laid out by
-`pipeline.kinetic_relaxation_layout`): per case, f(J-bar) at several tau = t/N against the thermal
+`pipeline.layouts.kinetic_relaxation`): per case, f(J-bar) at several tau = t/N against the thermal
 state of the same energy, and M0(tau), S(tau) for both equations.
 """
 

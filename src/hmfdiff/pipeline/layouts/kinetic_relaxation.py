@@ -16,8 +16,8 @@ import json
 import numpy as np
 import xarray as xr
 
-from ..meanfield import orbits
-from .layouts import ACTION, ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL, variable
+from ...meanfield import orbits
+from .variables import ACTION, ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL, variable
 
 __all__ = ["relaxation_times", "kinetic_relaxation_dataset"]
 

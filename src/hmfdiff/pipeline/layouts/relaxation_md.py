@@ -1,17 +1,17 @@
-"""Layouts of the relaxation wing, with the variable helper of `layouts`:
-results/relaxation_md/{case}/N{N}.nc, an ensemble of N-body relaxations.
+"""Layout of the N-body relaxation: results/relaxation_md/{case}/N{N}.nc, an ensemble of
+realisations of MD(full) from one initial state.
 
-Kept beside `layouts` (not in it) because they draw on `analysis.relaxation_md` for the
-histogram entropy, and `layouts` imports only the mean-field physics."""
+The density and entropy of the histograms come from `meanfield.histograms` (mean-field physics,
+like the rest of the layouts)."""
 
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
 
-from ..analysis.relaxation_md import density_from_histogram, entropy_from_histogram
-from .layouts import ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL
-from .layouts import variable as _var
+from ...meanfield.histograms import density_from_histogram, entropy_from_histogram
+from .variables import ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL
+from .variables import variable as _var
 
 __all__ = ["MEASURE_NAMES", "relaxation_md_dataset"]
 

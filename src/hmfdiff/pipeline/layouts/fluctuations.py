@@ -1,16 +1,14 @@
-"""Layouts of the MD precision wing (issue 15), with the variable helper of `layouts`:
-results/spectrum/{case}.nc (the magnetisation's fluctuation spectrum, measured and theory) and
-results/scaling/{case}_{dynamics}.nc (N*D_MD against N) and results/windowed/{case}_{dynamics}.nc
-(the theory fitted like the MD).  Beside `layouts`, which holds the
-layouts of the paper's figures and is full."""
+"""Layouts of the MD precision wing (issue 15): results/spectrum/{case}.nc (the magnetisation's
+fluctuation spectrum, measured and theory), results/scaling/{case}_{dynamics}.nc (N*D_MD against
+N) and results/windowed/{case}_{dynamics}.nc (the theory fitted like the MD)."""
 
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
 
-from .layouts import D_UNITS, NONNEGATIVE, UNIT_INTERVAL
-from .layouts import variable as _var
+from .variables import D_UNITS, NONNEGATIVE, UNIT_INTERVAL
+from .variables import variable as _var
 
 __all__ = ["spectrum_dataset", "scaling_dataset", "windowed_dataset"]
 
