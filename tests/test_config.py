@@ -577,6 +577,7 @@ def test_every_block_needs_enough_particles_for_a_mean_field():
 
     n_min = math.ceil((10.0 / make_state(SMOKE["cases"]["corehalo_ch2"]).M0) ** 2)
     cfg = copy.deepcopy(SMOKE)
+    _edit(cfg, (*CH2_SIZES[:-1], "control_sizes"), [400])  # a control needs its size kept
     _edit(cfg, CH2_SIZES, [n_min - 1, 400])
     _refused(
         cfg,
