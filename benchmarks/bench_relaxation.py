@@ -227,8 +227,8 @@ def separatrix_study(case, equations):
 def coarse_relaxation_time(case, out, kappa_max=3.0, n_bins=40):
     """tau_R^coarse of an evolution on the N-body ensembles' J-bar bins (relaxation_compare's
     definition: the deficit S_eq - S of the binned entropy fallen by e)."""
+    from hmfdiff.analysis.relaxation_compare import _coarse_entropy as entropy
     from hmfdiff.analysis.relaxation_md import (
-        PHASE_VOLUME_PER_JBAR,
         kinetic_bin_fractions,
         relaxation_time,
         state_bin_fractions,
@@ -237,14 +237,8 @@ def coarse_relaxation_time(case, out, kappa_max=3.0, n_bins=40):
 
     state = make_state(CASES[case][0])
     edges = np.linspace(0.0, float(orbits.rescaled_action(kappa_max, state.M0)), n_bins + 1)
-    dv = PHASE_VOLUME_PER_JBAR * np.diff(edges)
-
-    def entropy(P):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return -np.sum(np.where(P > 0, P * np.log(np.where(P > 0, P / dv, 1.0)), 0.0), -1)
-
-    S_eq = entropy(state_bin_fractions(ThermalState(u=state.u), edges))
-    S = entropy(kinetic_bin_fractions(out["jbar"], out["width"], out["f"], edges))
+    S_eq = entropy(state_bin_fractions(ThermalState(u=state.u), edges), edges)
+    S = entropy(kinetic_bin_fractions(out["jbar"], out["width"], out["f"], edges), edges)
     return relaxation_time(out["tau"], S_eq - S)
 
 
