@@ -114,7 +114,6 @@ def md_ensemble(n, R, rng, tau_e=TAU_MD, own_tau_e=None):
     """R realisations of n particles at t = tau N, in the relaxation_md layout; with own_tau_e,
     histograms of the other J-bar measures too: 'own' relaxing with own_tau_e, 'static' a copy
     of the main one."""
-    t = TAUS * n
 
     def draw(te):
         c = rng.multinomial(n, bin_probabilities(weight_a(TAUS, te)), size=(R, TAUS.size))
@@ -122,9 +121,20 @@ def md_ensemble(n, R, rng, tau_e=TAU_MD, own_tau_e=None):
 
     counts = draw(tau_e)
     M = m_exact(TAUS)[:, None] + SIGMA_M / np.sqrt(n) * rng.standard_normal((TAUS.size, R))
-    zeros = np.zeros((TAUS.size, R))
+    extra = {}
+    if own_tau_e is not None:
+        own = draw(own_tau_e)
+        extra = dict(hist_own=own[..., :-1], overflow_own=own[..., -1])
+        extra.update(hist_static=counts[..., :-1], overflow_static=counts[..., -1])
+    return synthetic_dataset(counts, M, n, M_START, **extra)
+
+
+def synthetic_dataset(counts, M, n, M0, **extra):
+    """counts (time, realisation, bin + overflow) and |M| (time, realisation) at t = TAUS n, in
+    the relaxation_md layout."""
+    zeros = np.zeros(M.shape)
     out = {
-        "time": t,
+        "time": TAUS * n,
         "M_abs": M,
         "M_phase": zeros,
         "energy": zeros,
@@ -133,16 +143,13 @@ def md_ensemble(n, R, rng, tau_e=TAU_MD, own_tau_e=None):
         "hist": counts[..., :-1],
         "overflow": counts[..., -1],
         "wall_time_s": 0.0,
+        **extra,
     }
-    if own_tau_e is not None:
-        own = draw(own_tau_e)
-        out.update(hist_own=own[..., :-1], overflow_own=own[..., -1])
-        out.update(hist_static=out["hist"], overflow_static=out["overflow"])
     return relaxation_md_dataset(
         out,
         EDGES,
         case="synthetic",
-        state=types.SimpleNamespace(M0=M_START),
+        state=types.SimpleNamespace(M0=M0),
         n_particles=n,
         run={"dt": 0.1, "tau_max": float(TAUS[-1]), "seed": 0},
     )
@@ -385,28 +392,9 @@ def test_entropy_change_since_t0_and_its_error(known_states):
 
 def ensemble_of_weights(p, n, R, rng):
     """R realisations of n particles whose block-A weight is p (one value per sample of TAUS),
-    in the relaxation_md layout."""
+    in the relaxation_md layout, |M| = M_INF throughout."""
     c = rng.multinomial(n, bin_probabilities(p), size=(R, TAUS.size)).transpose(1, 0, 2)
-    zeros = np.zeros((TAUS.size, R))
-    out = {
-        "time": TAUS * n,
-        "M_abs": zeros + M_INF,
-        "M_phase": zeros,
-        "energy": zeros,
-        "momentum": zeros,
-        "M0_actions": np.full(TAUS.size, M_INF),
-        "hist": c[..., :-1],
-        "overflow": c[..., -1],
-        "wall_time_s": 0.0,
-    }
-    return relaxation_md_dataset(
-        out,
-        EDGES,
-        case="synthetic",
-        state=types.SimpleNamespace(M0=M_INF),
-        n_particles=n,
-        run={"dt": 0.1, "tau_max": float(TAUS[-1]), "seed": 0},
-    )
+    return synthetic_dataset(c, np.full((TAUS.size, R), M_INF), n, M_INF)
 
 
 def test_thermal_control_measures_the_plug_in_entropy_bias(known_states):
