@@ -5,6 +5,8 @@ after a library file is edited."""
 import modulefinder
 import os
 import re
+import shutil
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -136,17 +138,65 @@ def workdir(tmp_path_factory):
     return smoke_workdir(tmp_path_factory)
 
 
-def test_editing_a_library_module_reruns_exactly_its_dependent_rules(workdir):
+def job_graph(output):
+    """[(rule, inputs, outputs)] of every job in a dry run's listing (`localrule all` too)."""
+    jobs = []
+    for m in re.finditer(r"^(?:local)?rule (\w+):\n((?:    .*\n)+)", output, re.M):
+        rule, block = m.groups()
+        files = {}
+        for key in ("input", "output"):
+            f = re.search(rf"^    {key}: (.*)$", block, re.M)
+            files[key] = set(f.group(1).split(", ")) if f else set()
+        jobs.append((rule, files["input"], files["output"]))
+    return jobs
+
+
+def downstream_counts(jobs, rules):
+    """{rule: count} of the jobs of `rules` and every job that reads, at any remove, a file
+    one of them writes: what editing an input of exactly those rules must rerun."""
+    producer = {f: i for i, (_, _, outputs) in enumerate(jobs) for f in outputs}
+    readers = {i: set() for i in range(len(jobs))}
+    for j, (_, inputs, _) in enumerate(jobs):
+        for f in inputs:
+            if f in producer:
+                readers[producer[f]].add(j)
+    todo = [i for i, (rule, _, _) in enumerate(jobs) if rule in rules]
+    reached = set(todo)
+    while todo:
+        for j in readers[todo.pop()] - reached:
+            reached.add(j)
+            todo.append(j)
+    counts = {}
+    for i in reached:
+        counts[jobs[i][0]] = counts.get(jobs[i][0], 0) + 1
+    return counts
+
+
+def test_downstream_counts_follow_files_at_any_remove():
+    jobs = [
+        ("a", set(), {"x"}),
+        ("b", {"x"}, {"y1"}),
+        ("b", {"src"}, {"y2"}),
+        ("c", {"y1", "z"}, {"w"}),
+        ("all", {"w", "y2"}, set()),
+    ]
+    assert downstream_counts(jobs, {"a"}) == {"a": 1, "b": 1, "c": 1, "all": 1}
+    assert downstream_counts(jobs, {"b"}) == {"b": 2, "c": 1, "all": 1}
+    assert downstream_counts(jobs, {"c"}) == {"c": 1, "all": 1}
+
+
+def test_editing_a_library_module_reruns_exactly_its_dependent_rules(workdir, tmp_path):
     """For src/hmfdiff files that rules' scripts import (as modulefinder sees it), append a
-    comment in the smoke copy: `snakemake -n` must plan exactly the jobs that forcing the
-    importing rules would (those jobs and everything downstream of them), then nothing once
-    the file is restored.
+    comment in a copy of the complete smoke run: `snakemake -n` must plan exactly the jobs of
+    the importing rules and everything downstream of them (followed file by file through the
+    job listing of `snakemake -n --forceall`), then nothing once the file is restored.
 
     One module is edited per distinct set of importing rules (plus three hand-known ones):
     modules with the same set are the same input of the same jobs, which
     `test_every_job_watches_exactly_the_modules_its_script_imports` checks module by module,
-    so editing each of them again would prove nothing more (it took 4 of the suite's 15
-    minutes)."""
+    so editing each of them again would prove nothing more.  The edits run in two copies of
+    the workdir side by side, one dry run per edit (the test took 10 minutes with a forced
+    dry run per rule set and one copy)."""
     rules = rule_scripts()
     assert {"equilibrium", "orbits", "theory", "closed_forms", "md", "fit", "validation"} <= set(
         rules
@@ -164,26 +214,43 @@ def test_editing_a_library_module_reruns_exactly_its_dependent_rules(workdir):
         groups.setdefault(direct, module)
     modules = sorted(set(groups.values()) | (known & set(modules)))
     assert len(groups) >= 8, groups  # the rules import different library subsets
-    r = snakemake(["-n", "--configfile", SMOKE], workdir)
-    assert job_counts(r.stdout + r.stderr) == {}, "the smoke run must be complete to start with"
-    expected_cache = {}
-    planned = {}
-    for module in modules:
-        direct = sorted(rule for rule, files in imports.items() if module in files)
-        if tuple(direct) not in expected_cache:
-            r = snakemake(["-n", "--configfile", SMOKE, "--forcerun", *direct], workdir)
+    copies = [workdir, tmp_path / "second"]
+    shutil.copytree(workdir, copies[1], symlinks=True)  # copy2: the mtimes come along
+    r = snakemake(["-n", "--forceall", "--configfile", SMOKE], copies[1])
+    assert r.returncode == 0, r.stderr[-3000:]
+    jobs = job_graph(r.stdout + r.stderr)
+    assert {rule for rule, _, _ in jobs} >= set(rules) | {"all"}
+
+    def plans(copy, share):
+        """Edit each module of `share` in `copy`, dry-run, restore: {module: job counts}."""
+        found = {}
+        start = snakemake(["-n", "--configfile", SMOKE], copy)
+        found[None] = job_counts(start.stdout + start.stderr)
+        for module in share:
+            path = copy / module
+            original = path.read_bytes()
+            try:
+                path.write_bytes(original + b"\n# edited by test_deps\n")
+                r = snakemake(["-n", "--configfile", SMOKE], copy)
+            finally:
+                path.write_bytes(original)
             assert r.returncode == 0, r.stderr[-3000:]
-            expected_cache[tuple(direct)] = job_counts(r.stdout + r.stderr)
-        path = workdir / module
-        original = path.read_bytes()
-        try:
-            path.write_bytes(original + b"\n# edited by test_deps\n")
-            r = snakemake(["-n", "--configfile", SMOKE], workdir)
-        finally:
-            path.write_bytes(original)
-        assert r.returncode == 0, r.stderr[-3000:]
-        planned[module] = job_counts(r.stdout + r.stderr)
-        assert planned[module] == expected_cache[tuple(direct)], (module, direct, planned[module])
+            found[module] = job_counts(r.stdout + r.stderr)
+        end = snakemake(["-n", "--configfile", SMOKE], copy)
+        found["restored"] = job_counts(end.stdout + end.stderr)
+        return found
+
+    with ThreadPoolExecutor(len(copies)) as pool:
+        shares = [modules[i :: len(copies)] for i in range(len(copies))]
+        results = list(pool.map(plans, copies, shares))
+    for found in results:
+        assert found.pop(None) == {}, "the smoke run must be complete to start with"
+        assert found.pop("restored") == {}, "restoring the files must rerun nothing"
+    planned = {m: counts for found in results for m, counts in found.items()}
+    assert sorted(planned) == modules
+    for module in modules:
+        direct = {rule for rule, files in imports.items() if module in files}
+        assert planned[module] == downstream_counts(jobs, direct), (module, direct)
     # hand-known pairs: the expected sets above are not empty or trivially equal
     fourier = planned["src/hmfdiff/meanfield/fourier.py"]
     assert {"equilibrium", "orbits", "theory", "closed_forms", "md", "fit", "figure"} <= set(
@@ -193,5 +260,3 @@ def test_editing_a_library_module_reruns_exactly_its_dependent_rules(workdir):
     assert {"fit", "validation", "figure"} <= set(fits) and "theory" not in fits
     registry = planned["src/hmfdiff/analysis/figures/registry.py"]
     assert set(registry) == {"figure", "all"}
-    r = snakemake(["-n", "--configfile", SMOKE], workdir)
-    assert job_counts(r.stdout + r.stderr) == {}, "restoring the files must rerun nothing"

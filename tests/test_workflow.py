@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from _smoke import smoke_workdir
 
 from hmfdiff.analysis.figures.registry import FIGURES
 from hmfdiff.pipeline.io import read_dataset
@@ -63,16 +64,9 @@ def md_against_theory_medians(rows):
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory):
-    d = tmp_path_factory.mktemp("pipeline")
-    for item in ("Snakefile", "config", "workflow", "src"):
-        src = ROOT / item
-        if src.is_dir():
-            shutil.copytree(
-                src, d / item, ignore=shutil.ignore_patterns("__pycache__", "*.egg-info")
-            )
-        else:
-            shutil.copy2(src, d / item)
-    return d
+    """The copy of the workflow in which `snakemake -j2 --configfile config/smoke.yaml` ran to
+    completion (the session's one smoke build, shared with the other tests that read it)."""
+    return smoke_workdir(tmp_path_factory)
 
 
 @pytest.mark.parametrize("config", ["config/config.yaml", "config/smoke.yaml"])
@@ -85,9 +79,11 @@ def test_dry_run_plans_whole_workflow(workdir, config):
     assert counts.get("all") == 1
 
 
-def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
-    r = snakemake(["-j2", "--configfile", "config/smoke.yaml"], workdir)
-    assert r.returncode == 0, r.stderr[-5000:]
+def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir, tmp_path):
+    """The smoke build (`snakemake -j2 --configfile config/smoke.yaml` from an empty results/,
+    made by the `workdir` fixture, which fails unless it succeeded) wrote every output, MD agrees
+    with theory within the smoke band, and the reruns after edits are exactly the dependent
+    ones."""
     smoke = yaml.safe_load((workdir / "config/smoke.yaml").read_text())
     for case in smoke["cases"]:
         eq = read_dataset(
@@ -162,8 +158,9 @@ def test_smoke_pipeline_end_to_end_and_rerun_rules(workdir):
     # editing one case's parameter reruns that case's chain, and only that
     cfg = yaml.safe_load((workdir / "config/smoke.yaml").read_text())
     cfg["cases"]["thermal_M0.9"]["M0"] = 0.85
-    (workdir / "config/edited.yaml").write_text(yaml.safe_dump(cfg))
-    r = snakemake(["-n", "--configfile", "config/edited.yaml"], workdir, timeout=300)
+    edited = tmp_path / "edited.yaml"
+    edited.write_text(yaml.safe_dump(cfg))
+    r = snakemake(["-n", "--configfile", str(edited)], workdir, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     counts = job_counts(r.stdout + r.stderr)
     # thermal_M0.9 feeds fig. 4 and fig. 7 in the smoke config, nothing else
@@ -198,37 +195,19 @@ def test_one_figure_by_name(workdir):
     assert r.returncode == 0, r.stderr[-3000:]
 
 
-def test_truncated_netcdf_input_is_named(workdir):
-    """A truncated intermediate stops the dependent rule with a message naming the file."""
-    eq = workdir / "results/smoke/equilibrium/thermal_M0.9.nc"
-    good = eq.read_bytes()
-    try:
-        eq.write_bytes(good[: len(good) // 3])
-        r = snakemake(
-            [
-                "-j1",
-                "results/smoke/orbits/thermal_M0.9.nc",
-                "-f",
-                "--configfile",
-                "config/smoke.yaml",
-            ],
-            workdir,
-            timeout=300,
-        )
-        assert r.returncode != 0
-        log = (workdir / "logs/smoke/orbits/thermal_M0.9.log").read_text() + r.stderr
-        assert "thermal_M0.9.nc: not a readable netCDF file" in log
-        assert "truncated or corrupt" in log
-    finally:
-        eq.write_bytes(good)
-        snakemake(
-            [
-                "-j1",
-                "results/smoke/orbits/thermal_M0.9.nc",
-                "-f",
-                "--configfile",
-                "config/smoke.yaml",
-            ],
-            workdir,
-            timeout=300,
-        )
+def test_truncated_netcdf_input_is_named(workdir, tmp_path):
+    """A truncated intermediate stops the dependent rule with a message naming the file (in a
+    copy of the smoke build: the forced rerun would leave the shared one out of date)."""
+    copy = tmp_path / "copy"
+    shutil.copytree(workdir, copy, symlinks=True)
+    eq = copy / "results/smoke/equilibrium/thermal_M0.9.nc"
+    eq.write_bytes(eq.read_bytes()[: eq.stat().st_size // 3])
+    r = snakemake(
+        ["-j1", "results/smoke/orbits/thermal_M0.9.nc", "-f", "--configfile", "config/smoke.yaml"],
+        copy,
+        timeout=300,
+    )
+    assert r.returncode != 0
+    log = (copy / "logs/smoke/orbits/thermal_M0.9.log").read_text() + r.stderr
+    assert "thermal_M0.9.nc: not a readable netCDF file" in log
+    assert "truncated or corrupt" in log
