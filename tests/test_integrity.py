@@ -294,7 +294,7 @@ PHYSICAL_RANGES = {
         "D_lenard_balescu_closed": NONNEG,
         "M0": (0, 1),
     },
-    r"(md/[^/]+/[^/]+|scaling/[^/]+/[^/]+/N\d+/seeds)/seed\d+\.nc": {
+    r"(md/[^/]+/[^/]+/seeds\d+-\d+|scaling/[^/]+/[^/]+/N\d+/seeds)/seed\d+\.nc": {
         **dict.fromkeys(["sum_dJ2", "sum_dJbar2", "sum_dJ2_block", "sum_dJbar2_block"], NONNEG),
         **dict.fromkeys(
             ["count", "count_block", "n_particles_in_bin", "n_origins_in_block"], NONNEG

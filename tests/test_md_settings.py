@@ -144,7 +144,7 @@ def test_md_rule_takes_the_threads_of_its_run(tmp_path):
     cfg["md"]["runs"]["corehalo_ch2"]["threads"] = 2
     (tmp_path / "threads.yaml").write_text(yaml.safe_dump(cfg))
     targets = [
-        f"{SMOKE['results_dir']}/md/{c}/full/seed0.nc" for c in ("corehalo_ch2", "thermal_u-0.1")
+        f"{SMOKE['results_dir']}/md/{c}/full/seeds0-1" for c in ("corehalo_ch2", "thermal_u-0.1")
     ]
     r = subprocess.run(
         [sys.executable, "-m", "snakemake", "-n", "--cores", "4"]

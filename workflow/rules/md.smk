@@ -19,26 +19,30 @@ rule kernels:
 
 
 rule md:
-    """One MD realisation (seed): MD(bath) or MD(full), with <dJ^2> accumulated on the fly."""
+    """A block of MD realisations (seeds {first} ... {last}) of MD(bath) or MD(full), with
+    <dJ^2> accumulated on the fly: one seed{s}.nc per seed in the block's folder.
+    """
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         kernels=KERNELS,
         lib=lib("md.py"),
     output:
-        f"{RES}/md/{{case}}/{{dynamics}}/seed{{seed}}.nc",
+        directory(f"{RES}/md/{{case}}/{{dynamics}}/seeds{{first}}-{{last}}"),
     log:
-        f"{LOG}/md/{{case}}/{{dynamics}}/seed{{seed}}.log",
+        f"{LOG}/md/{{case}}/{{dynamics}}/seeds{{first}}-{{last}}.log",
     wildcard_constraints:
         dynamics="bath|full",
-        seed=r"\d+",
+        first=r"\d+",
+        last=r"\d+",
     conda:
         "../envs/hmfdiff.yaml"
     threads: lambda w: md_run(w.case, w.dynamics).threads
     resources:
         mem_mb=lambda w: md_mem_mb(w.case, w.dynamics),
-        runtime=lambda w: md_runtime_min(w.case, w.dynamics),
+        runtime=lambda w: md_runtime_min(w.case, w.dynamics, w.first, w.last),
     params:
         run=lambda w: md_run(w.case, w.dynamics).realisation_json(),
+        seeds=lambda w: md_block(w.case, w.dynamics, w.first, w.last),
     script:
         "../scripts/md.py"
 
@@ -46,7 +50,7 @@ rule md:
 rule fit:
     """N*D_MD per J-bar_0 bin: half the slope of <dJ^2>(dt), pooled over seeds."""
     input:
-        seeds=lambda w: md_files(w.case, w.dynamics),
+        seeds=lambda w: md_folders(w.case, w.dynamics),
         lib=lib("fit.py"),
     output:
         f"{RES}/fits/{{case}}_{{dynamics}}.nc",
@@ -62,6 +66,7 @@ rule fit:
         runtime=15,
     params:
         fit=lambda w: json.dumps(md_fit_spec(w.case), sort_keys=True),
+        n_seeds=lambda w: md_run(w.case, w.dynamics).seeds,
     script:
         "../scripts/fit.py"
 
@@ -133,8 +138,8 @@ rule spectrum:
     leave out the slow orbits' high harmonics that fill the low frequencies."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        bath=lambda w: md_files(w.case, "bath"),
-        full=lambda w: md_files(w.case, "full"),
+        bath=lambda w: md_folders(w.case, "bath"),
+        full=lambda w: md_folders(w.case, "full"),
         lib=lib("spectrum.py"),
     output:
         f"{RES}/spectrum/{{case}}.nc",
@@ -149,6 +154,8 @@ rule spectrum:
     params:
         n_max=max(8, config["theory"]["n_max"]),
         l_max=config["theory"]["l_max"],
+        seeds_bath=lambda w: md_run(w.case, "bath").seeds,
+        seeds_full=lambda w: md_run(w.case, "full").seeds,
     script:
         "../scripts/spectrum.py"
 
@@ -160,7 +167,7 @@ rule md_scaling:
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         kernels=KERNELS,
-        lib=lib("md_scaling.py"),
+        lib=lib("md.py"),
     output:
         directory(f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/seeds"),
     log:
@@ -173,13 +180,14 @@ rule md_scaling:
     threads: lambda w: scaling_run(w.case, w.dynamics, w.n).threads
     resources:
         mem_mb=lambda w: scaling_run(w.case, w.dynamics, w.n).memory_mb(),
-        runtime=lambda w: scaling_run(w.case, w.dynamics, w.n).seeds
-        * scaling_run(w.case, w.dynamics, w.n).runtime_min(),
+        runtime=lambda w: scaling_run(w.case, w.dynamics, w.n).runtime_min(
+            scaling_run(w.case, w.dynamics, w.n).seeds
+        ),
     params:
         run=lambda w: scaling_run(w.case, w.dynamics, w.n).realisation_json(),
-        seeds=lambda w: scaling_run(w.case, w.dynamics, w.n).seeds,
+        seeds=lambda w: [0, scaling_run(w.case, w.dynamics, w.n).seeds - 1],
     script:
-        "../scripts/md_scaling.py"
+        "../scripts/md.py"
 
 
 rule fit_scaling:

@@ -22,9 +22,23 @@ def md_run(case, dynamics):
     return MD_RUNS[(case, dynamics)]
 
 
-def md_files(case, dynamics):
-    n = md_run(case, dynamics).seeds
-    return [f"{RES}/md/{case}/{dynamics}/seed{s}.nc" for s in range(n)]
+def md_folders(case, dynamics):
+    """The folders of seed files of one case and dynamics, one per MD job (block of seeds)."""
+    blocks = md_run(case, dynamics).seed_blocks()
+    return [f"{RES}/md/{case}/{dynamics}/seeds{a}-{b}" for a, b in blocks]
+
+
+def md_block(case, dynamics, first, last):
+    """[first, last] of a block of seeds, refused unless it is one of the run's blocks (a
+    folder asked for by hand with other bounds would mix block layouts)."""
+    block = (int(first), int(last))
+    blocks = md_run(case, dynamics).seed_blocks()
+    if block not in blocks:
+        raise ValueError(
+            f"md {case} {dynamics}: seeds{first}-{last} is not a block of this run "
+            f"(blocks: {', '.join(f'seeds{a}-{b}' for a, b in blocks)})"
+        )
+    return list(block)
 
 
 def md_fit_spec(case):
@@ -36,8 +50,8 @@ def md_mem_mb(case, dynamics):
     return md_run(case, dynamics).memory_mb()
 
 
-def md_runtime_min(case, dynamics):
-    return md_run(case, dynamics).runtime_min()
+def md_runtime_min(case, dynamics, first, last):
+    return md_run(case, dynamics).runtime_min(int(last) - int(first) + 1)
 
 
 def scaling_run(case, dynamics, n):

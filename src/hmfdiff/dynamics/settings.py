@@ -29,7 +29,22 @@ TEST_SAMPLINGS = ("uniform", "f")
 BATHS = ("exact", "integrated")
 
 #: fields that say how the workflow runs and fits the realisations, not what one computes
-WORKFLOW_FIELDS = ("seeds", "threads", "fit_window", "min_particles", "separatrix_band_fit")
+WORKFLOW_FIELDS = (
+    "seeds",
+    "threads",
+    "job_seconds",
+    "fit_window",
+    "min_particles",
+    "separatrix_band_fit",
+)
+#: particle-steps per second and thread of a whole realisation (integration, actions and the
+#: accumulation of <dJ^2>), a round figure below the MD(full) job measured idle on the 2-core
+#: machine (N = 5e5 + 2e4, t = 1000: 1.04e10 in 14.2 s, 7.3e8/s, 2026-11-24): it sizes the blocks
+#: of seeds that one job runs (`MDRun.seed_blocks`), so it must not depend on the machine
+NOMINAL_PARTICLE_STEPS_PER_S = 5e8
+#: an exact-bath particle costs about 1/8 of an integrated one (its orbit's harmonics are summed,
+#: not integrated: an MD(bath) realisation of N_b = 5e5 + 2e4 test particles took 3.0 s)
+EXACT_BATH_COST = 1 / 8
 
 # (field, smallest value) of the integer fields
 _INTEGERS = (
@@ -53,6 +68,7 @@ _REALS = (
     ("t_equilibrate", 0.0, True, math.inf),
     ("kappa_max", 0.0, False, math.inf),
     ("separatrix_band_fit", 0.0, True, 0.5),
+    ("job_seconds", 0.0, False, math.inf),
 )
 # (field, unit): each field must be a whole multiple of its unit
 _MULTIPLES = (
@@ -92,7 +108,8 @@ class MDRun:
     actions measured (None: all N); they are statistically equivalent, and the noise of <dJ^2>
     comes from the field, not from the number of tracked particles.
     Workflow (`WORKFLOW_FIELDS`, no effect on one realisation's numbers): `seeds`
-    realisations, `threads` per job, and the fit of <dJ^2> over `fit_window` = (t_min, t_max)
+    realisations, run in blocks of about `job_seconds` of work per job (`seed_blocks`),
+    `threads` per job, and the fit of <dJ^2> over `fit_window` = (t_min, t_max)
     in bins with at least `min_particles`, flagging bins within `separatrix_band_fit` of
     kappa = 1.  `case` names the run in messages.
     """
@@ -120,6 +137,7 @@ class MDRun:
     n_track: int | None = None
     seeds: int = 1
     threads: int = 1
+    job_seconds: float = 60.0
     fit_window: tuple[float, float] | None = None
     min_particles: int = 0
     separatrix_band_fit: float = 0.0
@@ -299,12 +317,31 @@ class MDRun:
         slots = self.max_lag / self.origin_every + 1
         return int(1000 + (48 * n + 11 * self.n_tracked * slots) / 1e6 * 1.3)
 
-    def runtime_min(self):
-        """Wall-time request of one job in minutes, at a conservative 5e7 particle-steps/s
-        (an exact bath counts as 1/20 of its particles integrated)."""
-        n_bath = self.n_particles / 20 if self.exact_bath else self.n_particles
-        steps = (n_bath + self.n_test) * (self.t_max + self.t_equilibrate) / self.dt
-        return int(10 + steps / 5e7 / 60 * 2)
+    def particle_steps(self):
+        """Particle-steps of one realisation (an exact-bath particle counts `EXACT_BATH_COST`)."""
+        n_bath = self.n_particles * EXACT_BATH_COST if self.exact_bath else self.n_particles
+        return (n_bath + self.n_test) * (self.t_max + self.t_equilibrate) / self.dt
+
+    def runtime_min(self, seeds=1):
+        """Wall-time request of one job of `seeds` realisations in minutes, at a conservative
+        5e7 particle-steps/s."""
+        return int(10 + seeds * self.particle_steps() / 5e7 / 60 * 2)
+
+    def seeds_per_job(self):
+        """Realisations per MD job: as many as fit in `job_seconds` of one thread's work at the
+        nominal speed (`NOMINAL_PARTICLE_STEPS_PER_S`), at least one.  It depends on what one
+        realisation computes and on `job_seconds` only, not on `seeds`, `threads` or the
+        machine, so that the blocks (the MD jobs' outputs) stay put; changing `job_seconds`
+        regroups the seeds and so reruns the MD."""
+        per_seed = self.particle_steps() / NOMINAL_PARTICLE_STEPS_PER_S
+        return max(1, int(self.job_seconds // per_seed))
+
+    def seed_blocks(self):
+        """[(first, last)] (inclusive) of the blocks of seeds, one per MD job: aligned at
+        multiples of `seeds_per_job`, the last one cut at `seeds`.  Raising `seeds` keeps every
+        full block and adds new ones; only a partial last block is run again."""
+        b = self.seeds_per_job()
+        return [(s, min(s + b, self.seeds) - 1) for s in range(0, self.seeds, b)]
 
     # ---------------------------------------------------------------- serialisation
     def to_dict(self, *, realisation_only=False):

@@ -38,6 +38,7 @@ import datetime
 import fnmatch
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -113,6 +114,7 @@ __all__ = [
     "provenance",
     "git_revision",
     "atomic_path",
+    "atomic_directory",
     "write_dataset",
     "read_dataset",
     "check_physical",
@@ -248,6 +250,29 @@ def atomic_path(path):
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+@contextlib.contextmanager
+def atomic_directory(path):
+    """Yield a temporary directory beside `path` (`.<name>.part`); rename it onto `path` only if
+    the block succeeds, so that a killed writer never leaves a directory that looks complete.
+
+    A temporary directory that a killed writer of the same target left behind is deleted
+    first; the temporary directory is deleted if the block fails.  An existing `path` (an old
+    output, or the empty directory a scheduler may make) is replaced.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.parent / f".{path.name}{PART_SUFFIX}"
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    try:
+        yield tmp
+        if path.is_dir():
+            shutil.rmtree(path)
+        os.replace(tmp, path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def cf_units(units, attrs=None):

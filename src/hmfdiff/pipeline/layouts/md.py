@@ -1,21 +1,54 @@
-"""Layouts of the diffusion measured by MD: results/md/{case}/{dynamics}/seed{seed}.nc
-(`dynamics.md.run_md`: sums of <dJ^2> per bin and lag) and results/fits/{case}_{dynamics}.nc
-(`analysis.fits.diffusion_fit`: N D_MD per bin)."""
+"""Layouts of the diffusion measured by MD: results/md/{case}/{dynamics}/seeds{first}-{last}/
+seed{seed}.nc (`dynamics.md.run_md`: sums of <dJ^2> per bin and lag; one folder per MD job, a
+block of seeds) and results/fits/{case}_{dynamics}.nc (`analysis.fits.diffusion_fit`: N D_MD
+per bin)."""
 
 from __future__ import annotations
+
+import re
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from .variables import ACTION, COMPONENT, NONNEGATIVE, UNIT_INTERVAL, flag_word, variable
 
-__all__ = ["md_dataset", "fit_dataset"]
+__all__ = ["md_dataset", "fit_dataset", "seed_files"]
+
+SEED_FILE = re.compile(r"seed(\d+)\.nc")
+
+
+def seed_files(inputs, n_seeds):
+    """The seed files of one run, in the order of the seed: `inputs` are seed{s}.nc files or
+    folders of them (one per MD job).  Together they must hold exactly seeds 0 ... n_seeds - 1,
+    once each (RuntimeError naming what is missing or repeated otherwise)."""
+    inputs = [inputs] if isinstance(inputs, str | Path) else list(inputs)
+    found = {}
+    for p in map(Path, inputs):
+        files = sorted(p.glob("seed*.nc")) if p.is_dir() else [p]
+        for f in files:
+            m = SEED_FILE.fullmatch(f.name)
+            if not m:
+                raise RuntimeError(f"{f}: not a seed file (seed<s>.nc)")
+            s = int(m.group(1))
+            if s in found:
+                raise RuntimeError(f"seed {s} twice: {found[s]} and {f}")
+            found[s] = f
+    missing = sorted(set(range(n_seeds)) - set(found))
+    extra = sorted(set(found) - set(range(n_seeds)))
+    if missing or extra:
+        raise RuntimeError(
+            f"{', '.join(map(str, inputs))}: seeds {missing} missing, {extra} unexpected "
+            f"(expected seeds 0 ... {n_seeds - 1})"
+        )
+    return [str(found[s]) for s in range(n_seeds)]
 
 
 def md_dataset(result):
-    """results/md/{case}/{dynamics}/seed{seed}.nc from `dynamics.md.run_md`: sums per (bin, lag)
-    and per (bin, lag, block) over (origin, particle) pairs, eq. dj2 (<dJ^2> = sum_dJ2 / count;
-    use ds["count"]: ds.count is a method); Mx, My, energy, momentum; a few stored tracks."""
+    """results/md/{case}/{dynamics}/seeds{first}-{last}/seed{seed}.nc from `dynamics.md.run_md`:
+    sums per (bin, lag) and per (bin, lag, block) over (origin, particle) pairs, eq. dj2
+    (<dJ^2> = sum_dJ2 / count; use ds["count"]: ds.count is a method); Mx, My, energy,
+    momentum; a few stored tracks."""
     run, a, edges, series = result.run, result.sums, result.jbar_edges, result.series
     bl, bll, t, tt = ("bin", "lag"), ("bin", "lag", "block"), ("t",), ("t", "tracer")
     data = {}
