@@ -148,7 +148,8 @@ def test_a_seed_gives_the_same_file_in_any_block_and_new_seeds_run_alone(workdir
     """The smoke run made MD(full) seeds 0 and 1 of thermal_u-0.1 in one job (folder seeds0-1).
     In a copy, one seed per job (job_seconds below one seed's work) makes folders seeds0-0 and
     seeds1-1 whose files equal the smoke run's, bit for bit; raising seeds to 3 then plans
-    exactly one MD job, seeds2-2."""
+    exactly one MD(full) job, seeds2-2 (MD(bath), whose blocks job_seconds regrouped, runs
+    all its seeds again, one per job)."""
     copy = tmp_path / "copy"
     shutil.copytree(workdir, copy, symlinks=True)
     res = copy / SMOKE["results_dir"] / "md" / CASE / "full"
@@ -176,4 +177,6 @@ def test_a_seed_gives_the_same_file_in_any_block_and_new_seeds_run_alone(workdir
     assert r.returncode == 0, r.stderr[-3000:]
     out = r.stdout + r.stderr
     assert planned_md_folders(out) == ["seeds2-2"]
-    assert job_counts(out)["md"] == 1
+    # MD(bath) of the case (10 seeds, one block in the smoke run) is regrouped by job_seconds
+    assert planned_md_folders(out, "bath") == [f"seeds{s}-{s}" for s in range(10)]
+    assert job_counts(out)["md"] == 11

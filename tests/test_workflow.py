@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from _smoke import smoke_workdir
+from _smoke import copy_workflow, smoke_workdir
 
 from hmfdiff.analysis.figures.registry import FIGURES
 from hmfdiff.pipeline.io import read_dataset
@@ -70,7 +70,8 @@ def workdir(tmp_path_factory):
 
 
 @pytest.mark.parametrize("config", ["config/config.yaml", "config/smoke.yaml"])
-def test_dry_run_plans_whole_workflow(workdir, config):
+def test_dry_run_plans_whole_workflow(tmp_path, config):
+    workdir = copy_workflow(tmp_path)  # nothing built: the dry run plans every job
     r = snakemake(["-n", "--configfile", config], workdir, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     counts = job_counts(r.stdout + r.stderr)
