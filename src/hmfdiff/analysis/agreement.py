@@ -16,13 +16,16 @@ For each case and dynamics, and pooled over all of them:
 The same for the finite-time (windowed) theory, with `ratio_windowed` and `z_windowed`.
 `python -m hmfdiff.analysis.agreement results/validation.csv` prints the summary; with
 `--markdown` the two tables, with `--readme` the block the README includes (both tables and the
-|z| > 3 bins by name; `tests/test_readme_numbers.py` checks the README against it).
+|z| > 3 bins by name), with `--update README.md` that block written between the README's
+markers.  The README's block comes from the reference copy of a full reproduction's table,
+docs/reference/validation.csv; `tests/test_readme_numbers.py` checks the two agree.
 """
 
 from __future__ import annotations
 
 import csv
 import sys
+from pathlib import Path
 
 import numpy as np
 from scipy import stats
@@ -33,6 +36,7 @@ __all__ = [
     "summary_text",
     "markdown_table",
     "readme_block",
+    "readme_with_block",
     "read_rows",
 ]
 
@@ -205,6 +209,21 @@ def readme_block(rows):
     return "\n".join(out).rstrip() + "\n"
 
 
+#: the lines around the block in README.md
+README_MARKERS = ("<!-- agreement:start -->", "<!-- agreement:end -->")
+
+
+def readme_with_block(text, block):
+    """`text` (the README) with the part between `README_MARKERS` replaced by `block`.
+    ValueError unless each marker occurs exactly once, start before end."""
+    start, end = README_MARKERS
+    if text.count(start) != 1 or text.count(end) != 1 or text.index(start) > text.index(end):
+        raise ValueError(f"README: needs one {start} line before one {end} line")
+    head, rest = text.split(start)
+    _, tail = rest.split(end)
+    return f"{head}{start}\n{block}{end}{tail}"
+
+
 def read_rows(path):
     """The rows of a validation.csv, numbers as floats, flag and n_seeds as integers."""
     rows = []
@@ -225,13 +244,29 @@ def read_rows(path):
 def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     markdown = "--markdown" in argv
+    update = None
+    if "--update" in argv:
+        i = argv.index("--update")
+        if i + 1 >= len(argv):
+            sys.exit("agreement: --update needs the README's path")
+        update = argv.pop(i + 1)
+        argv.pop(i)
     paths = [a for a in argv if not a.startswith("--")]
     if len(paths) != 1:
         sys.exit(
-            "usage: python -m hmfdiff.analysis.agreement VALIDATION_CSV [--markdown | --readme]"
+            "usage: python -m hmfdiff.analysis.agreement VALIDATION_CSV "
+            "[--markdown | --readme | --update README.md]"
         )
     rows = read_rows(paths[0])
-    if "--readme" in argv:
+    if update is not None:
+        readme = Path(update)
+        try:
+            new = readme_with_block(readme.read_text(), readme_block(rows))
+        except (OSError, ValueError) as err:
+            sys.exit(f"agreement: {err}")
+        readme.write_text(new)
+        print(f"agreement: {readme}: block between the markers rewritten from {paths[0]}")
+    elif "--readme" in argv:
         print(readme_block(rows), end="")
     elif markdown:
         print("MD against the asymptotic theory:\n")
