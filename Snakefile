@@ -72,9 +72,13 @@ include: "workflow/rules/relaxation_md.smk"
 # by killed jobs (restart after a kill: snakemake --unlock, then the same command with
 # --rerun-incomplete).
 onstart:
-    from hmfdiff.pipeline.runtime import remove_stale_job_scripts
+    from hmfdiff.pipeline.runtime import (
+        drop_local_job_rate_limiter,
+        remove_stale_job_scripts,
+    )
 
     remove_stale_job_scripts()
+    drop_local_job_rate_limiter(workflow)
 
 
 rule all:

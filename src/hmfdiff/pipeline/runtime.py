@@ -24,6 +24,7 @@ __all__ = [
     "current_job",
     "install_excepthook",
     "remove_stale_job_scripts",
+    "drop_local_job_rate_limiter",
 ]
 
 
@@ -133,6 +134,27 @@ def remove_stale_job_scripts(workdir="."):
     for path in stale:
         path.unlink(missing_ok=True)
     return stale
+
+
+def drop_local_job_rate_limiter(workflow):
+    """Turn off Snakemake's job-rate limiter for a run on this machine; True if it was on.
+
+    For the Snakefile's `onstart:` handler (which runs once the scheduler exists).  Snakemake
+    9's limiter (`--max-jobs-per-timespan`, default 100/1s, meant to spare a cluster's queue)
+    arms a 1-second timer on each pass of the scheduling loop, and the pass that timer causes
+    arms the next: every job that ends starts one more such chain, so the passes per second
+    grow with the jobs done (737 timers for 40 two-second jobs, quadratic in the run's
+    length).  Each pass that finds jobs waiting for a core re-selects among them, stat-ing the
+    inputs of every ready job: in the paper's reproduction Snakemake itself used 25-45 % of one
+    of the two cores.  A local run needs no submission limit (job ends wake the scheduler);
+    a cluster run (a non-local executor) keeps it."""
+    scheduler = getattr(workflow, "scheduler", None)
+    plugin = getattr(workflow, "executor_plugin", None)
+    if scheduler is None or plugin is None or plugin.common_settings.non_local_exec:
+        return False
+    was_on = getattr(scheduler, "job_rate_limiter", None) is not None
+    scheduler.job_rate_limiter = None
+    return was_on
 
 
 def set_threads(n):
