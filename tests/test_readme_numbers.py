@@ -1,0 +1,202 @@
+"""The README's MD-against-theory statistics are generated from the reference copy of a full
+reproduction's results/validation.csv (docs/reference/validation.csv), and that copy belongs
+to the paper config as it stands: the two cannot drift apart unnoticed."""
+
+from __future__ import annotations
+
+import csv
+
+import pytest
+import yaml
+from _smoke import ROOT, smoke_workdir
+
+from hmfdiff.analysis.agreement import (
+    README_MARKERS,
+    read_rows,
+    readme_block,
+    readme_with_block,
+)
+from hmfdiff.dynamics.runs import md_runs
+
+REFERENCE = ROOT / "docs/reference/validation.csv"
+README = ROOT / "README.md"
+
+
+def test_readme_block_is_generated_from_the_reference_table():
+    text = README.read_text()
+    block = readme_block(read_rows(REFERENCE))
+    assert readme_with_block(text, block) == text, (
+        "README.md's agreement block differs from docs/reference/validation.csv: run "
+        "`python -m hmfdiff.analysis.agreement docs/reference/validation.csv --update README.md`"
+    )
+    assert "| all |" in block  # the pooled lines are there
+
+
+def test_reference_table_belongs_to_the_paper_config():
+    """Every case and dynamics of md.runs in config/config.yaml, with its number of seeds and
+    particles, and nothing else."""
+    config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    runs = md_runs(config)
+    rows = read_rows(REFERENCE)
+    lines = {(r["case"], r["dynamics"]) for r in rows}
+    assert lines == set(runs)
+    for r in rows:
+        assert r["n_seeds"] == runs[r["case"], r["dynamics"]].seeds, (r["case"], r["dynamics"])
+    flag0 = [r for r in rows if r["flag"] == 0]
+    assert len(flag0) > 100  # a full table, not a few lines
+
+
+def test_reference_table_has_the_columns_the_pipeline_writes(tmp_path_factory):
+    smoke = smoke_workdir(tmp_path_factory)
+    with open(smoke / "results/smoke/validation.csv", newline="") as fh:
+        written = next(csv.reader(fh))
+    with open(REFERENCE, newline="") as fh:
+        reference = next(csv.reader(fh))
+    assert reference == written
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "no markers\n",
+        f"{README_MARKERS[1]}\n{README_MARKERS[0]}\n",
+        f"{README_MARKERS[0]}\n{README_MARKERS[0]}\n{README_MARKERS[1]}\n",
+    ],
+)
+def test_markers_must_be_one_pair_in_order(text):
+    with pytest.raises(ValueError, match="needs one"):
+        readme_with_block(text, "x\n")
+
+
+def test_block_replaces_exactly_what_lies_between_the_markers():
+    start, end = README_MARKERS
+    text = f"head\n{start}\nold line\n{end}\ntail\n"
+    assert readme_with_block(text, "new\n") == f"head\n{start}\nnew\n{end}\ntail\n"
+
+
+#: README numbers taken from the reference copies of the reproduction's summaries: (file under
+#: docs/reference, text in that file, text in the README with its whitespace collapsed).  A
+#: rebuild whose summaries differ fails here until the README says what the new files say.
+CLAIMS = [
+    (
+        "relaxation_comparison_summary.txt",
+        "landau: tau_R^coarse = 38.91",
+        "Landau's coarse-grained tau_R = 38.9",
+    ),
+    (
+        "relaxation_comparison_summary.txt",
+        "lenard_balescu: tau_R^coarse = 126.7",
+        "a third of Lenard-Balescu's 126.7",
+    ),
+    (
+        "relaxation_comparison_summary.txt",
+        "t_R = 3.681e+04 +- 4e+03",
+        "36.8 +- 4.0, 40.6 +- 2.6, 41.6 +- 1.9 at N = 1000, 2000, 4000",
+    ),
+    ("relaxation_comparison_summary.txt", "t_R = 8.121e+04 +- 5.2e+03", "40.6 +- 2.6"),
+    ("relaxation_comparison_summary.txt", "t_R = 1.665e+05 +- 7.6e+03", "41.6 +- 1.9"),
+    ("relaxation_comparison_summary.txt", "alpha = 1.072 +- 0.075", "exponent 1.07 +- 0.08"),
+    (
+        "relaxation_comparison_summary.txt",
+        "offset +0.00437 +- 0.00818, drift -0.00277 +- 0.00133, t_R/N = 37.9 +- 4.1",
+        "S_eq + 0.0044 +- 0.0082 (N = 1e3)",
+    ),
+    (
+        "relaxation_comparison_summary.txt",
+        "offset +0.00380 +- 0.00678, drift -0.00030 +- 0.00094, t_R/N = 42.56 +- 2",
+        "+ 0.0038 +- 0.0068 (N = 4e3) and drift by -0.0028 +- 0.0013 and -0.0003 +- 0.0009",
+    ),
+    ("relaxation_comparison_summary.txt", "t_R/N = 42.56 +- 2", "37.9 +- 4.1 and 42.6 +- 2.0"),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 2.40 +- 0.23",
+        "2.40 +- 0.23, 1.13 +- 0.18, 0.94 +- 0.16, 0.66 +- 0.10 times the Lenard-Balescu value",
+    ),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 1.13 +- 0.18",
+        "1.13 +- 0.18",
+    ),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 0.94 +- 0.16",
+        "0.94 +- 0.16",
+    ),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 0.66 +- 0.10",
+        "0.66 +- 0.10",
+    ),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 3.50 +- 0.35",
+        "3.50 +- 0.35, 1.32 +- 0.28, 1.08 +- 0.24, 0.70 +- 0.14 times the Lenard-Balescu value",
+    ),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 1.32 +- 0.28",
+        "1.32 +- 0.28",
+    ),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 1.08 +- 0.24",
+        "1.08 +- 0.24",
+    ),
+    (
+        "relaxation_rates_corehalo_hothalo_summary.txt",
+        "/lenard_balescu 0.70 +- 0.14",
+        "0.70 +- 0.14",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "/lenard_balescu 1.10 +- 0.07",
+        "1.10 +- 0.07, 1.07 +- 0.07, 1.06 +- 0.06 times the Lenard-Balescu value",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "/lenard_balescu 1.07 +- 0.07",
+        "1.07 +- 0.07",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "/lenard_balescu 1.06 +- 0.06",
+        "1.06 +- 0.06",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "/lenard_balescu 0.90 +- 0.04",
+        "0.90 +- 0.04, 0.89 +- 0.04, 0.90 +- 0.03 times Lenard-Balescu's",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "/lenard_balescu 0.89 +- 0.04",
+        "0.89 +- 0.04",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "/lenard_balescu 0.90 +- 0.03",
+        "0.90 +- 0.03",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "<|M|>(tau*) - M0 = -0.00599 +- 0.00091 (landau -0.00620, lenard_balescu -0.00571)",
+        "-0.0060 +- 0.0009, -0.0037 +- 0.0010, -0.0059 +- 0.0009 at t/N = 0.5 against "
+        "M0(tau) -0.0057 (Lenard-Balescu) and -0.0062 (Landau)",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "<|M|>(tau*) - M0 = -0.00372 +- 0.00102",
+        "-0.0037 +- 0.0010",
+    ),
+    (
+        "relaxation_rates_corehalo_warmcore_summary.txt",
+        "<|M|>(tau*) - M0 = -0.00593 +- 0.00086",
+        "-0.0059 +- 0.0009",
+    ),
+]
+
+
+@pytest.mark.parametrize("name,reference,readme", CLAIMS, ids=lambda x: x[:40])
+def test_readme_quotes_what_the_reference_summaries_say(name, reference, readme):
+    assert reference in (ROOT / "docs/reference" / name).read_text(), (name, reference)
+    assert readme in " ".join(README.read_text().split()), readme
