@@ -330,9 +330,11 @@ def test_numbers_in_any_notation_and_nested_overrides_are_accepted(workdir, tmp_
     r = snakemake(workdir, ["-n", "--configfile", str(cfg), *extra])
     assert r.returncode == 0, (r.stdout + r.stderr)[-3000:]
     md = yaml.safe_load(text)["md"]
-    seeds = md.get("seeds_bath", md["seeds"]) + md.get("seeds_full", md["seeds"])
-    n_md = len(md["runs"]) * seeds  # cases x (bath + full seeds)
+    # at smoke size every case and dynamics runs its seeds in one job (md.job_seconds)
+    n_md = len(md["runs"]) * 2
     assert re.search(rf"\bmd\s+{n_md}\b", r.stdout + r.stderr)
+    seeds = md.get("seeds_bath", md["seeds"])
+    assert f"md/thermal_u-0.1/bath/seeds0-{seeds - 1}" in r.stdout + r.stderr
 
 
 def test_malformed_default_config_names_the_file(tmp_path):
