@@ -138,10 +138,9 @@ def config_with(tmp, **md_case):
     return path.name
 
 
-def planned_md_folders(output):
-    return sorted(
-        re.findall(r"output: \S+/md/" + re.escape(CASE) + r"/full/(seeds\d+-\d+)", output)
-    )
+def planned_md_folders(output, dynamics="full"):
+    pattern = rf"output: \S+/md/{re.escape(CASE)}/{dynamics}/(seeds\d+-\d+)"
+    return sorted(re.findall(pattern, output), key=lambda f: int(f[5:].split("-")[0]))
 
 
 def test_a_seed_gives_the_same_file_in_any_block_and_new_seeds_run_alone(workdir, tmp_path):
