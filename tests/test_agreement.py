@@ -5,7 +5,14 @@ values, the |z| > 3 bins named, and the CSV round trip."""
 import numpy as np
 import pytest
 
-from hmfdiff.analysis.agreement import agreement, markdown_table, read_rows, summary_text
+from hmfdiff.analysis.agreement import (
+    agreement,
+    beside_separatrix,
+    markdown_table,
+    read_rows,
+    readme_block,
+    summary_text,
+)
 from hmfdiff.analysis.fits import write_validation_csv
 
 
@@ -75,7 +82,7 @@ def test_expected_values_match_student_t_samples():
 
 def test_windowed_block_uses_the_windowed_columns():
     rows = [_row("a", "bath", 1.0, 0.0, ratio_windowed=1.5, z_windowed=4.0)]
-    (e, _) = agreement(rows, "windowed")
+    e = agreement(rows, "windowed")[0]
     assert e["median_dev"] == pytest.approx(0.5) and len(e["outliers"]) == 1
     assert agreement(rows)[0]["outliers"] == []
 
@@ -89,3 +96,39 @@ def test_csv_round_trip_keeps_the_degrees_of_freedom(tmp_path):
     assert summary_text(back) == summary_text(rows)
     table = markdown_table(back)
     assert "| a | bath | 5 |" in table and "(1.05)" in table  # E[z^2] = 39/37
+
+
+def test_bins_beside_the_separatrix_band_are_counted_apart():
+    """A line's usable bins next to its separatrix-flagged bins (in bin order) form the group
+    'beside separatrix'; the |z| > 3 counts of each group stand against Student t's expectation,
+    2 P(|t_nu| > 3) per bin, here from numpy's t samples (not scipy's distribution)."""
+    line = [
+        _row("a", "full", 1.0, 0.5, kappa0=0.80),
+        _row("a", "full", 1.3, 4.0, kappa0=0.94),  # beside the band, an outlier
+        _row("a", "full", 1.0, 0.0, flag=2, kappa0=0.98),
+        _row("a", "full", 1.0, 0.0, flag=2, kappa0=1.01),
+        _row("a", "full", 1.1, 1.0, kappa0=1.04),  # beside the band
+        _row("a", "full", 0.7, -3.2, kappa0=1.20),  # an outlier elsewhere
+    ]
+    # the next line starts with a usable bin: it is not beside line a's flagged bins
+    other = [_row("b", "bath", 1.0, 0.2, kappa0=0.2), _row("b", "bath", 1.0, 0.1, kappa0=0.3)]
+    rows = line + other
+    assert beside_separatrix(rows) == [False, True, True, True, True, False, False, False]
+    rows_b_first = other + [_row("b", "bath", 1.0, 0.0, flag=2)] + line
+    assert beside_separatrix(rows_b_first)[:4] == [False, True, False, False]
+    per = {e["case"]: e for e in agreement(rows) if e["dynamics"] == "all"}
+    assert per["beside separatrix"]["bins"] == 2 and per["elsewhere"]["bins"] == 4
+    assert [r["kappa0"] for r in per["beside separatrix"]["outliers"]] == [0.94]
+    assert [r["kappa0"] for r in per["elsewhere"]["outliers"]] == [1.20]
+    assert per["beside separatrix"]["mean_z2"] == pytest.approx((16.0 + 1.0) / 2)
+    p3 = np.mean(np.abs(np.random.default_rng(3).standard_t(19, 2_000_000)) > 3.0)
+    assert per["elsewhere"]["outliers_expected"] == pytest.approx(4 * p3, rel=0.03)
+    assert per["all"]["outliers_expected"] == pytest.approx(6 * p3, rel=0.03)
+    text = summary_text(rows)
+    assert "a full kappa0 = 0.940 (ratio 1.300, z = +4.0) [beside the separatrix band]" in text
+    assert "a full kappa0 = 1.200 (ratio 0.700, z = -3.2)\n" in text + "\n"
+    assert "pooled, beside the separatrix band: 2" in text and "pooled, elsewhere: 4" in text
+    assert "beside the separatrix band 1 (" in text and "elsewhere 1 (" in text
+    block = readme_block(rows)
+    assert "| *beside the separatrix band* | all | 2 |" in block
+    assert "- a full kappa0 = 0.940 (ratio 1.300, z = +4.0) [beside the separatrix band]" in block
