@@ -1,0 +1,186 @@
+"""Why the MD-against-theory bins beside the separatrix band are off (issue 23 part 4).
+
+The full reproduction's validation (docs/reference/validation.csv) has six bins with |z| > 3
+where Student t expects 1.35; four of them are the usable bins next to the separatrix band
+(`analysis.agreement.beside_separatrix`), worst the thermal u = 0.2475 MD(bath) bin at
+kappa0 = 1.039 (N D_MD / N D_Landau = 1.19, z = 8.9).  This study tests the candidate causes
+one at a time, each against the bin-averaged theory of the pipeline (`fits.theory_bin_average`
+on the MD's own J-bar bins):
+
+    python studies/separatrix_bins.py theory     # seconds: truncation, grid, magnetisation
+    python studies/separatrix_bins.py windowed   # seconds: the finite-time theory near kappa = 1
+    python studies/separatrix_bins.py md N FIRST LAST   # MD(bath) at u = 0.2475 in fine bins
+    python studies/separatrix_bins.py fit        # the fine- and production-bin fits of those
+
+`theory`: N D at the outlier bins with n_max = l_max = 6, 8, 10; on 400 and 1600 kappa nodes;
+for a thermal state whose M0 is 1.5 % and 3 % off (MD(full)'s <|M|> differs from M0 by up to
+2.5 % per realisation at u = 0.2475, N = 1e6).  `windowed`: the asymptotic and the windowed
+Landau D (MD's lags 50-200, 4-20) at kappa 0.97-1.05.  `md`: MD(bath) realisations with the
+paper's settings for u = 0.2475 (N_b = N, dt = 0.05, lags to 200, the fit window 50-200) but
+120 J-bar bins (four per production bin) and the 20 000 test particles uniform in
+J-bar in [0.28, 0.50], around the separatrix (J-bar = 0.320), written to
+studies/out/sep_N{N}_seed{s}.nc.  `fit`: N D per fine bin and per production bin (four fine
+bins summed) against the theory, for each N found.
+"""
+
+from __future__ import annotations
+
+import glob
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from hmfdiff.analysis.fits import diffusion_fit, kappa_of_jbar, theory_at_bins, theory_bin_average
+from hmfdiff.kinetic.spectrum import SpectrumTable, diffusion_from_spectrum, windowed_diffusion
+from hmfdiff.kinetic.theory import theory_grid
+from hmfdiff.meanfield import equilibrium, orbits
+from hmfdiff.pipeline.layouts.theory import theory_dataset
+
+OUT = Path(__file__).resolve().parent / "out"
+U = 0.2475
+FIT_WINDOW = (50.0, 200.0)
+PRODUCTION_BINS = 30  # md.n_bins over [0, J-bar(kappa_max = 2)]
+FINE = 4  # fine bins per production bin
+
+
+def thermal(u=U, scale=1.0):
+    return equilibrium.ThermalState(M0=scale * equilibrium.thermal_M0_from_energy(u))
+
+
+def theory(state, **grid):
+    return theory_dataset(theory_grid(state, **grid))
+
+
+def fit_like(edges, M0, dynamics, jbar_range):
+    """The attributes of a fit that `theory_bin_average` reads (uniform test particles)."""
+    return xr.Dataset(
+        {"jbar_edges": ("edge", edges), "M0": M0},
+        attrs=dict(
+            dynamics=dynamics,
+            N=1_000_000,
+            n_test=20_000,
+            n_tracked_from_f=100_000,
+            test_sampling="uniform",
+            jbar_range=np.asarray(jbar_range, dtype=float),
+        ),
+    )
+
+
+def study_theory():
+    outliers = {-0.2: [1.164, 1.413], 0.0: [1.039], U: [0.942, 1.039]}
+    print("N D at the outlier bins' centres with n_max = l_max = 6, 8, 10, over n_max = 6")
+    for u, k in outliers.items():
+        st, k = thermal(u), np.array(k)
+        base = None
+        for n in (6, 8, 10):
+            ds = theory(st, n_max=n, l_max=n)
+            d = np.array([theory_at_bins(ds, k, dyn) for dyn in ("bath", "full")])
+            base = d if base is None else base
+            r = np.round(d / base, 4)
+            print(f"  u = {u:+}: n_max {n:2d}, kappa {k}: Landau {r[0]}, Lenard-Balescu {r[1]}")
+    st = thermal()
+    edges = np.linspace(0.0, orbits.rescaled_action(2.0, st.M0), PRODUCTION_BINS + 1)
+    k0 = kappa_of_jbar(0.5 * (edges[1:] + edges[:-1]), st.M0)
+    sel = (k0 > 0.9) & (k0 < 1.1)
+    print(f"u = {U}: bin averages on the production bins kappa0 = {np.round(k0[sel], 3)}")
+    cases = [("400 nodes", 1.0, {}), ("1600 nodes", 1.0, {"n_kappa": 1600})]
+    cases += [(f"M0 x {s}", s, {}) for s in (0.97, 0.985, 1.015, 1.03)]
+    ref = {}
+    for label, scale, grid in cases:
+        st = thermal(scale=scale)
+        ds = theory(st, **grid)
+        for dyn in ("bath", "full"):
+            fit = fit_like(edges, st.M0, dyn, (0.0, edges[-1]))
+            v = theory_bin_average(ds, fit, st.f)[sel]
+            ref.setdefault(dyn, v)
+            print(f"  {label:11s} {dyn}: {np.round(v, 4)}  ratio {np.round(v / ref[dyn], 3)}")
+
+
+def study_windowed():
+    st = thermal()
+    table = SpectrumTable(st, n_max=6)
+    k = np.array([0.97, 0.99, 1.005, 1.01, 1.014, 1.018, 1.022, 1.026, 1.03, 1.04, 1.05])
+    print("kappa        ", k)
+    print("Omega        ", np.round(orbits.frequency(k, st.M0), 4), f"(sqrt M0 = {st.M0**0.5:.4f})")
+    print("asymptotic   ", np.round(diffusion_from_spectrum(table, k, st.M0), 3))
+    for lags in (np.arange(50.0, 201.0, 2.0), np.arange(4.0, 21.0, 2.0)):
+        w = windowed_diffusion(table, k, st.M0, lags)
+        print(f"lags {lags[0]:.0f}-{lags[-1]:.0f}  ", np.round(w, 3))
+
+
+def study_md(n, first, last):
+    from hmfdiff.dynamics.md import run_md
+    from hmfdiff.dynamics.settings import MDRun
+    from hmfdiff.pipeline.layouts.md import md_dataset
+
+    OUT.mkdir(exist_ok=True)
+    run = MDRun(
+        case=f"u{U}-separatrix",
+        dynamics="bath",
+        n_particles=n,
+        n_test=20_000,
+        dt=0.05,
+        t_max=600.0,
+        sample_every=2.0,
+        max_lag=200.0,
+        origin_every=10.0,
+        n_bins=FINE * PRODUCTION_BINS,
+        jbar_range=(0.28, 0.50),
+        m_every=2.0,
+        n_store=0,
+    )
+    for seed in range(first, last + 1):
+        t = time.perf_counter()
+        md_dataset(run_md(thermal(), run, seed, 1, progress=lambda m: None)).to_netcdf(
+            OUT / f"sep_N{n}_seed{seed}.nc"
+        )
+        print(f"N = {n}, seed {seed}: {time.perf_counter() - t:.1f} s", flush=True)
+
+
+def coarsen(ds, factor):
+    """The MD dataset with `factor` consecutive J-bar bins summed into one."""
+    sums = {k: v.coarsen(bin=factor).sum() for k, v in ds.data_vars.items() if "bin" in v.dims}
+    edges = ds["jbar_edges"].values[::factor]
+    out = xr.Dataset(sums, coords={"lag": ds["lag"], "jbar_edges": ("edge", edges)})
+    out.attrs = dict(ds.attrs, n_bins=out.sizes["bin"])
+    out["jbar0"] = ("bin", 0.5 * (edges[1:] + edges[:-1]))
+    return out
+
+
+def study_fit():
+    st = thermal()
+    ds_th = theory(st, n_kappa=1600, separatrix_band=0.003)
+    sizes = sorted({int(Path(f).name.split("_")[1][1:]) for f in glob.glob(str(OUT / "sep_N*"))})
+    for n in sizes:
+        files = sorted(glob.glob(str(OUT / f"sep_N{n}_seed*.nc")))
+        data = [xr.open_dataset(f) for f in files]
+        for factor, what in ((1, "fine bins"), (FINE, "production bins")):
+            fit = diffusion_fit([coarsen(d, factor) for d in data], FIT_WINDOW, 200, 0.0)
+            th = theory_bin_average(ds_th, fit, st.f)
+            e, nd, err = fit["jbar_edges"].values, fit["ND_md"].values, fit["ND_md_err"].values
+            print(f"N = {n:.0e}, {len(files)} seeds, {what}, fit window {FIT_WINDOW}:")
+            for i in np.flatnonzero(fit["n_particles_in_bin"].values >= 200):
+                lo, hi = kappa_of_jbar(e[i : i + 2], st.M0)
+                if 0.95 < lo < 1.1:
+                    print(
+                        f"  kappa {lo:.3f}-{hi:.3f}: MD {nd[i]:.3f} +- {err[i]:.3f}, "
+                        f"Landau {th[i]:.3f}, ratio {nd[i] / th[i]:.3f}, "
+                        f"z {(nd[i] - th[i]) / err[i]:+.1f}"
+                    )
+
+
+if __name__ == "__main__":
+    what = sys.argv[1] if len(sys.argv) > 1 else ""
+    if what == "theory":
+        study_theory()
+    elif what == "windowed":
+        study_windowed()
+    elif what == "md" and len(sys.argv) == 5:
+        study_md(int(float(sys.argv[2])), int(sys.argv[3]), int(sys.argv[4]))
+    elif what == "fit":
+        study_fit()
+    else:
+        sys.exit(__doc__.split("\n\n")[1])
