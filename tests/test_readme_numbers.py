@@ -78,6 +78,57 @@ def test_block_replaces_exactly_what_lies_between_the_markers():
 #: docs/reference, text in that file, text in the README with its whitespace collapsed).  A
 #: rebuild whose summaries differ fails here until the README says what the new files say.
 CLAIMS = [
+    # config/experiments/hothalo_large_n.yaml (rebuilt 2026-11-26)
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "t_R/N = 55.34;",
+        "it is 55.3 +- 2.6 and 69.4 +- 3.4",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "t_R = 4.427e+05 +- 2.1e+04",
+        "55.3 +- 2.6",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "t_R = 1.11e+06 +- 5.4e+04, t_R/N = 69.36;",
+        "69.4 +- 3.4",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "= 0.437 (lenard_balescu)",
+        "0.44 and 0.55 of Lenard-Balescu's",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "= 0.547 (lenard_balescu)",
+        "0.44 and 0.55 of Lenard-Balescu's",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "own |M|: t_R/N = 55.43 +- 2.6; the initial state's static M0: t_R/N = 55.52",
+        "55.4/55.5",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "own |M|: t_R/N = 69.27 +- 3.3; the initial state's static M0: t_R/N = 69.03",
+        "69.3/69.0",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "difference +0.00206 +- 0.00082",
+        "0.0021 +- 0.0008 and 0.0013 +- 0.0006 above",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "difference +0.00125 +- 0.00060",
+        "0.0013 +- 0.0006 above",
+    ),
+    (
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+        "alpha = 1.326 +- 0.098",
+        "N^(1.33 +- 0.10)",
+    ),
     (
         "relaxation_comparison_summary.txt",
         "landau: tau_R^coarse = 38.91",
