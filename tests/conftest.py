@@ -1,5 +1,12 @@
 """Shared helpers for the tests: numerically integrated pendulum orbits (independent of the
-elliptic-function closed forms under test)."""
+elliptic-function closed forms under test), and the grouping of the tests for pytest-xdist.
+
+The suite runs on two workers (`-n 2 --dist loadgroup`, pyproject.toml).  Every test of a
+module that uses the shared smoke build (`_smoke.smoke_workdir`) joins the xdist group "smoke",
+so that one worker builds it once and runs those tests one after another: some of them edit the
+build's sources and dry-run it (and put them back), which a test reading it on the other worker
+must not see.  All other tests make what they need in their own temporary folders.
+"""
 
 import numpy as np
 import pytest
@@ -54,6 +61,20 @@ def integrate_orbit(kappa, M0, sign=1.0, n_periods=1.0, n_samples=None, t_end=No
     t = np.arange(n_samples) * period / n_samples
     theta, p = sol.sol(t)
     return period, t, theta, p
+
+
+SMOKE_GROUP = "smoke"
+
+
+def pytest_collection_modifyitems(config, items):
+    """Put the tests of every module that uses the shared smoke build in one xdist group."""
+    uses = {}
+    for item in items:
+        path = item.path
+        if path not in uses:
+            uses[path] = "smoke_workdir" in path.read_text()
+        if uses[path]:
+            item.add_marker(pytest.mark.xdist_group(SMOKE_GROUP))
 
 
 @pytest.fixture
