@@ -66,6 +66,7 @@ def integrate_orbit(kappa, M0, sign=1.0, n_periods=1.0, n_samples=None, t_end=No
 SMOKE_GROUP = "smoke"
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist reads the group marks into the node ids
 def pytest_collection_modifyitems(config, items):
     """Put the tests of every module that uses the shared smoke build in one xdist group."""
     uses = {}
