@@ -201,7 +201,7 @@ def summary_text(rows):
                 f"{e['frac_z2']:.2f} ({e['frac_z2_expected']:.2f})  "
                 f"{e['mean_z2']:.2f} ({e['mean_z2_expected']:.2f})"
             )
-        lines += _outlier_lines(rows, stats_, ratio, z, indent="  ")
+        lines += _outlier_lines(stats_, ratio, z, indent="  ")
     return "\n".join(lines)
 
 
@@ -209,11 +209,11 @@ def _pooled(entry):
     return entry["dynamics"] == "all"
 
 
-def _outlier_lines(rows, stats_, ratio, z, indent):
+def _outlier_lines(stats_, ratio, z, indent):
     """The bins with |z| > OUTLIER_Z by name (those beside the separatrix band marked), and
     their count against Student t's expectation, pooled, beside the band and elsewhere."""
-    beside = {id(r) for r, b in zip(rows, beside_separatrix(rows), strict=True) if b}
     pooled = {e["case"]: e for e in stats_ if _pooled(e)}
+    beside = {id(r) for r in pooled["beside separatrix"].get("outliers", [])}
     outliers = [r for e in stats_ if not _pooled(e) and e["bins"] for r in e["outliers"]]
     if not outliers:
         return [f"No bin with |z| > {OUTLIER_Z:g}."]
@@ -262,7 +262,7 @@ def readme_block(rows):
     for comparison, (ratio, z, _) in COMPARISONS.items():
         what = "asymptotic" if comparison == "asymptotic" else "windowed (finite-time)"
         out += [f"MD against the {what} theory:", "", markdown_table(rows, comparison), ""]
-        head, *bad = _outlier_lines(rows, agreement(rows, comparison), ratio, z, indent="- ")
+        head, *bad = _outlier_lines(agreement(rows, comparison), ratio, z, indent="- ")
         out += [head, "", *bad] if bad else [head]
         out.append("")
     return "\n".join(out).rstrip() + "\n"
