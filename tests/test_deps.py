@@ -64,6 +64,20 @@ def test_relative_import_beyond_the_package_is_refused(tmp_path):
         library_files(script, src)
 
 
+def test_a_module_edited_after_a_walk_is_read_again(tmp_path):
+    """Parsed imports are kept per file version: an edit seen by a later walk in the same
+    process (the rules ask for the same modules again and again in one dry run)."""
+    src = tmp_path / "src"
+    write(src, "hmfdiff/__init__.py")
+    one = write(src, "hmfdiff/one.py", "x = 1\n")
+    write(src, "hmfdiff/two.py", "y = 2\n")
+    script = write(tmp_path, "script.py", "import hmfdiff.one\n")
+    assert library_files(script, src) == [str(src / "hmfdiff/__init__.py"), str(one)]
+    one.write_text("from . import two\n")
+    os.utime(one, ns=(0, 10**9))  # a new version even were the size and clock tick the same
+    assert library_files(script, src)[-1] == str(src / "hmfdiff/two.py")
+
+
 def modulefinder_files(script):
     """The hmfdiff files reached from `script` according to modulefinder (bytecode, stdlib)."""
     finder = modulefinder.ModuleFinder(path=[str(ROOT / "src")])
@@ -151,9 +165,9 @@ def job_graph(output):
     return jobs
 
 
-def downstream_counts(jobs, rules):
-    """{rule: count} of the jobs of `rules` and every job that reads, at any remove, a file
-    one of them writes: what editing an input of exactly those rules must rerun."""
+def downstream_jobs(jobs, rules):
+    """Indices of the jobs of `rules` and of every job that reads, at any remove, a file one of
+    them writes: what editing an input of exactly those rules must rerun."""
     producer = {f: i for i, (_, _, outputs) in enumerate(jobs) for f in outputs}
     readers = {i: set() for i in range(len(jobs))}
     for j, (_, inputs, _) in enumerate(jobs):
@@ -166,10 +180,33 @@ def downstream_counts(jobs, rules):
         for j in readers[todo.pop()] - reached:
             reached.add(j)
             todo.append(j)
+    return reached
+
+
+def downstream_counts(jobs, rules):
+    """{rule: count} of `downstream_jobs`."""
     counts = {}
-    for i in reached:
+    for i in downstream_jobs(jobs, rules):
         counts[jobs[i][0]] = counts.get(jobs[i][0], 0) + 1
     return counts
+
+
+def edit_batches(jobs, direct):
+    """Modules grouped so that one dry run per group checks each of them: within a group, no
+    module's edit reaches the jobs of the rules that import another one directly, so a module
+    whose edit reran nothing (or missed its own rules) leaves its direct jobs out of the
+    group's plan.  `direct`: {module: set of rules importing it}; greedy, widest first."""
+    reach = {m: downstream_jobs(jobs, rules) for m, rules in direct.items()}
+    own = {m: {i for i, (r, _, _) in enumerate(jobs) if r in rules} for m, rules in direct.items()}
+    batches = []
+    for m in sorted(direct, key=lambda m: (-len(reach[m]), m)):
+        for batch in batches:
+            if all(not own[x] & reach[m] and not own[m] & reach[x] for x in batch):
+                batch.append(m)
+                break
+        else:
+            batches.append([m])
+    return batches
 
 
 def test_downstream_counts_follow_files_at_any_remove():
@@ -185,78 +222,103 @@ def test_downstream_counts_follow_files_at_any_remove():
     assert downstream_counts(jobs, {"c"}) == {"c": 1, "all": 1}
 
 
+def test_edit_batches_never_hide_one_module_behind_another():
+    """A module edited with others must be the only one of its group that reaches its own
+    rules' jobs: m_c (rule c) is downstream of m_a (rule a), so they are checked apart; m_d
+    (rule d, read by nothing) goes with m_a; m_e (rule c and d) with neither."""
+    jobs = [
+        ("a", set(), {"x"}),
+        ("b", {"x"}, {"y"}),
+        ("c", {"y"}, {"w"}),
+        ("d", set(), {"v"}),
+        ("all", {"w", "v"}, set()),
+    ]
+    direct = {"m_a": {"a"}, "m_c": {"c"}, "m_d": {"d"}, "m_e": {"c", "d"}}
+    batches = edit_batches(jobs, direct)
+    assert sorted(map(sorted, batches)) == [["m_a", "m_d"], ["m_c"], ["m_e"]]
+    for batch in batches:
+        for m in batch:
+            others = set().union(*(downstream_jobs(jobs, direct[x]) for x in batch if x != m))
+            own = {i for i, (r, _, _) in enumerate(jobs) if r in direct[m]}
+            assert not own & others
+
+
 def test_editing_a_library_module_reruns_exactly_its_dependent_rules(workdir, tmp_path):
     """For src/hmfdiff files that rules' scripts import (as modulefinder sees it), append a
     comment in a copy of the complete smoke run: `snakemake -n` must plan exactly the jobs of
     the importing rules and everything downstream of them (followed file by file through the
-    job listing of `snakemake -n --forceall`), then nothing once the file is restored.
+    job listing of `snakemake -n --forceall`), then nothing once the files are restored.
 
     One module is edited per distinct set of importing rules (plus three hand-known ones):
     modules with the same set are the same input of the same jobs, which
     `test_every_job_watches_exactly_the_modules_its_script_imports` checks module by module,
-    so editing each of them again would prove nothing more.  The edits run in two copies of
-    the workdir side by side, one dry run per edit (the test took 10 minutes with a forced
-    dry run per rule set and one copy)."""
+    so editing each of them again would prove nothing more.  Modules are edited together where
+    none reaches the jobs of another's rules (`edit_batches`: a module whose edit reran
+    nothing leaves its own rules' jobs out of the plan), one dry run per group, in two copies
+    of the workdir side by side (one dry run per module took 5 minutes under load)."""
     rules = rule_scripts()
     assert {"equilibrium", "orbits", "theory", "closed_forms", "md", "fit", "validation"} <= set(
         rules
     ) and "figure" in rules
     imports = {rule: modulefinder_files(script) for rule, script in rules.items()}
-    modules = sorted({f for files in imports.values() for f in files})
-    known = {
+    known = [
         "src/hmfdiff/meanfield/fourier.py",
         "src/hmfdiff/analysis/fits.py",
         "src/hmfdiff/analysis/figures/registry.py",
-    }
+    ]
     groups = {}
-    for module in modules:
-        direct = tuple(sorted(rule for rule, files in imports.items() if module in files))
+    for module in known + sorted({f for files in imports.values() for f in files}):
+        direct = frozenset(rule for rule, files in imports.items() if module in files)
         groups.setdefault(direct, module)
-    modules = sorted(set(groups.values()) | (known & set(modules)))
     assert len(groups) >= 8, groups  # the rules import different library subsets
+    direct = {module: set(rules) for rules, module in groups.items()}
+    assert set(known) <= set(direct)  # three groups the hand-known checks below pin
     copies = [workdir, tmp_path / "second"]
     shutil.copytree(workdir, copies[1], symlinks=True)  # copy2: the mtimes come along
     r = snakemake(["-n", "--forceall", "--configfile", SMOKE], copies[1])
     assert r.returncode == 0, r.stderr[-3000:]
     jobs = job_graph(r.stdout + r.stderr)
     assert {rule for rule, _, _ in jobs} >= set(rules) | {"all"}
+    batches = edit_batches(jobs, direct)
+    assert len(batches) < len(direct)  # the point of grouping
 
     def plans(copy, share):
-        """Edit each module of `share` in `copy`, dry-run, restore: {module: job counts}."""
+        """Edit each group of `share` in `copy`, dry-run, restore: {group: job counts}."""
         found = {}
         start = snakemake(["-n", "--configfile", SMOKE], copy)
         found[None] = job_counts(start.stdout + start.stderr)
-        for module in share:
-            path = copy / module
-            original = path.read_bytes()
+        for batch in share:
+            originals = {m: (copy / m).read_bytes() for m in batch}
             try:
-                path.write_bytes(original + b"\n# edited by test_deps\n")
+                for m, text in originals.items():
+                    (copy / m).write_bytes(text + b"\n# edited by test_deps\n")
                 r = snakemake(["-n", "--configfile", SMOKE], copy)
             finally:
-                path.write_bytes(original)
+                for m, text in originals.items():
+                    (copy / m).write_bytes(text)
             assert r.returncode == 0, r.stderr[-3000:]
-            found[module] = job_counts(r.stdout + r.stderr)
+            found[tuple(batch)] = job_counts(r.stdout + r.stderr)
         end = snakemake(["-n", "--configfile", SMOKE], copy)
         found["restored"] = job_counts(end.stdout + end.stderr)
         return found
 
     with ThreadPoolExecutor(len(copies)) as pool:
-        shares = [modules[i :: len(copies)] for i in range(len(copies))]
+        shares = [batches[i :: len(copies)] for i in range(len(copies))]
         results = list(pool.map(plans, copies, shares))
     for found in results:
         assert found.pop(None) == {}, "the smoke run must be complete to start with"
         assert found.pop("restored") == {}, "restoring the files must rerun nothing"
-    planned = {m: counts for found in results for m, counts in found.items()}
-    assert sorted(planned) == modules
-    for module in modules:
-        direct = {rule for rule, files in imports.items() if module in files}
-        assert planned[module] == downstream_counts(jobs, direct), (module, direct)
+    planned = {batch: counts for found in results for batch, counts in found.items()}
+    assert sorted(planned) == sorted(map(tuple, batches))
+    for batch, counts in planned.items():
+        rules_hit = set().union(*(direct[m] for m in batch))
+        assert counts == downstream_counts(jobs, rules_hit), (batch, rules_hit)
     # hand-known pairs: the expected sets above are not empty or trivially equal
-    fourier = planned["src/hmfdiff/meanfield/fourier.py"]
+    fourier = downstream_counts(jobs, direct["src/hmfdiff/meanfield/fourier.py"])
     assert {"equilibrium", "orbits", "theory", "closed_forms", "md", "fit", "figure"} <= set(
         fourier
     )
-    fits = planned["src/hmfdiff/analysis/fits.py"]
+    fits = downstream_counts(jobs, direct["src/hmfdiff/analysis/fits.py"])
     assert {"fit", "validation", "figure"} <= set(fits) and "theory" not in fits
-    registry = planned["src/hmfdiff/analysis/figures/registry.py"]
+    registry = downstream_counts(jobs, direct["src/hmfdiff/analysis/figures/registry.py"])
     assert set(registry) == {"figure", "all"}

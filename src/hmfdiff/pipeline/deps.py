@@ -11,6 +11,7 @@ count as well, since Python runs them on import.  Nothing is imported or execute
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 __all__ = ["library_files", "module_imports", "import_graph"]
@@ -54,8 +55,17 @@ def module_imports(path, src, package=None, top_level=False):
     `package` is the dotted package holding `path` (None for a script outside `src`, whose
     relative imports, if any, are an error).  `from a.b import c` yields both `a.b` and
     `a.b.c`; the caller keeps those that are modules.  `top_level`: only the imports that run
-    when the module is imported (not those inside functions)."""
-    tree = ast.parse(Path(path).read_text(), filename=str(path))
+    when the module is imported (not those inside functions).
+
+    Parsed once per file version (path, size and modification time): a dry run of the workflow
+    asks for the same modules once per rule."""
+    stat = Path(path).stat()
+    return list(_imports(str(path), stat.st_mtime_ns, stat.st_size, package, top_level))
+
+
+@functools.lru_cache(maxsize=4096)
+def _imports(path, mtime_ns, size, package, top_level):
+    tree = ast.parse(Path(path).read_text(), filename=path)
     names = []
     for node in _import_nodes(tree, top_level):
         if isinstance(node, ast.Import):
@@ -75,7 +85,7 @@ def module_imports(path, src, package=None, top_level=False):
                 base = node.module
             names.append(base)
             names += [f"{base}.{alias.name}" for alias in node.names if alias.name != "*"]
-    return [n for n in names if n == PACKAGE or n.startswith(PACKAGE + ".")]
+    return tuple(n for n in names if n == PACKAGE or n.startswith(PACKAGE + "."))
 
 
 def library_files(script, src):
