@@ -1,12 +1,15 @@
 """Shared helpers for the tests: numerically integrated pendulum orbits (independent of the
 elliptic-function closed forms under test), and the grouping of the tests for pytest-xdist.
 
-The suite runs on two workers (`-n 2 --dist loadgroup`, pyproject.toml).  Every test of a
-module that uses the shared smoke build (`_smoke.smoke_workdir`) joins the xdist group "smoke",
-so that one worker builds it once and runs those tests one after another: some of them edit the
-build's sources and dry-run it (and put them back), which a test reading it on the other worker
-must not see.  All other tests make what they need in their own temporary folders.
+The suite runs on two workers (`-n 2 --dist loadgroup`, pyproject.toml).  Every test that
+uses the shared smoke build (`_smoke.smoke_workdir`, in its own code or a fixture's) joins the
+xdist group "smoke", so that one worker builds it once and runs those tests one after
+another: some of them edit the build's sources and dry-run it (and put them back), which a test
+reading it on the other worker must not see.  All other tests, those of the same modules too,
+make what they need in their own temporary folders and run on either worker.
 """
+
+import inspect
 
 import numpy as np
 import pytest
@@ -66,15 +69,33 @@ def integrate_orbit(kappa, M0, sign=1.0, n_periods=1.0, n_samples=None, t_end=No
 SMOKE_GROUP = "smoke"
 
 
+_NAMES_SMOKE = {}  # function -> whether its source names smoke_workdir
+
+
+def uses_smoke_build(item):
+    """Whether a test reaches `_smoke.smoke_workdir`: its own code or that of any fixture it
+    requests (directly or through other fixtures: pytest lists the closure) names it."""
+    funcs = [getattr(item, "function", None)]
+    info = getattr(item, "_fixtureinfo", None)
+    if info is not None:
+        funcs += [d.func for defs in info.name2fixturedefs.values() for d in defs]
+    for func in funcs:
+        if func not in _NAMES_SMOKE:
+            try:
+                _NAMES_SMOKE[func] = "smoke_workdir" in inspect.getsource(func)
+            except (TypeError, OSError):  # builtins, C functions: not ours
+                _NAMES_SMOKE[func] = False
+        if _NAMES_SMOKE[func]:
+            return True
+    return False
+
+
 @pytest.hookimpl(tryfirst=True)  # before xdist reads the group marks into the node ids
 def pytest_collection_modifyitems(config, items):
-    """Put the tests of every module that uses the shared smoke build in one xdist group."""
-    uses = {}
+    """Put every test that uses the shared smoke build in one xdist group (the other tests of
+    the same modules run on either worker)."""
     for item in items:
-        path = item.path
-        if path not in uses:
-            uses[path] = "smoke_workdir" in path.read_text()
-        if uses[path]:
+        if uses_smoke_build(item):
             item.add_marker(pytest.mark.xdist_group(SMOKE_GROUP))
 
 

@@ -1,5 +1,5 @@
 """The suite's split over two xdist workers keeps the tests of the shared smoke build on one
-worker (tests/conftest.py): the hook groups exactly the modules that use that build."""
+worker (tests/conftest.py): the hook groups exactly the tests that use that build."""
 
 import re
 import subprocess
@@ -8,49 +8,82 @@ from pathlib import Path
 
 import conftest
 
+GROUP = conftest.SMOKE_GROUP
+
 TESTS = Path(__file__).resolve().parent
 
 
-class _Item:
-    def __init__(self, path):
-        self.path = path
-        self.markers = []
-
-    def add_marker(self, marker):
-        self.markers.append(marker)
+PROBE = """
+import pytest
+from _smoke import smoke_workdir
 
 
-def test_tests_of_the_shared_smoke_build_form_one_group():
-    users = ["test_deps.py", "test_figures.py", "test_report.py", "test_cf_compliance.py"]
-    others = ["test_agreement.py", "test_slurm.py", "test_relaxation_rates.py"]
-    items = {name: _Item(TESTS / name) for name in users + others}
-    conftest.pytest_collection_modifyitems(None, list(items.values()))
-    for name in users:
-        (marker,) = items[name].markers
-        assert marker.name == "xdist_group" and marker.args == (conftest.SMOKE_GROUP,), name
-    for name in others:
-        assert items[name].markers == [], name
+@pytest.fixture
+def built(tmp_path):
+    if tmp_path is None:  # never: the probe must not build; the hook reads the source
+        smoke_workdir(tmp_path)
+    return tmp_path
+
+
+@pytest.fixture
+def derived(built):
+    return built
+
+
+def test_fixture_user(built):
+    pass
+
+
+def test_indirect_user(derived):
+    pass
+
+
+def test_direct_user():
+    if False:
+        smoke_workdir(None)
+
+
+@pytest.mark.parametrize("k", range(3))
+def test_bystander(k, tmp_path):
+    pass
+"""
+
+
+def run_probe(tmp_path, *args):
+    """pytest on a probe module beside a copy of the suite's conftest and _smoke (the hook under
+    test reads sources, so nothing is built)."""
+    for name in ("conftest.py", "_smoke.py"):
+        (tmp_path / name).write_text((TESTS / name).read_text())
+    (tmp_path / "test_probe.py").write_text(PROBE)
+    return subprocess.run(
+        [sys.executable, "-m", "pytest", "-v", "-p", "no:cacheprovider", "--rootdir", tmp_path]
+        + [*args, "test_probe.py"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+
+
+def test_tests_that_use_the_shared_smoke_build_form_one_group(tmp_path):
+    """Through a fixture, through a fixture's fixture or in the test's own code: grouped; the
+    other tests of the same module: not grouped, on any worker; all grouped tests on one
+    worker (the marks must be set before xdist reads them into the node ids)."""
+    r = run_probe(tmp_path, "-n", "2", "--dist", "loadgroup")
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    runs = re.findall(r"^\[(gw\d+)\] .*?PASSED (\S+)", r.stdout, re.M)
+    assert len(runs) == 6, r.stdout[-3000:]
+    grouped = {node.split("::")[1]: w for w, node in runs if node.endswith("@" + GROUP)}
+    assert sorted(grouped) == [
+        f"test_direct_user@{GROUP}",
+        f"test_fixture_user@{GROUP}",
+        f"test_indirect_user@{GROUP}",
+    ], runs
+    assert len(set(grouped.values())) == 1, runs
+    assert all("@" not in node for _, node in runs if "bystander" in node), runs
 
 
 def test_the_suite_runs_on_two_workers_grouped():
     text = (TESTS.parent / "pyproject.toml").read_text()
     assert "-n 2 --dist loadgroup" in text
     assert "pytest-xdist==" in (TESTS.parent / "environment.txt").read_text()
-
-
-def test_the_group_reaches_xdist():
-    """In a real two-worker run, tests of a module of the shared build carry the group in their
-    node id and all run on one worker (the marks must be set before xdist reads them)."""
-    r = subprocess.run(
-        [sys.executable, "-m", "pytest", "-v", "-n", "2", "-p", "no:cacheprovider"]
-        + ["tests/test_readme_numbers.py", "-k", "quotes and hothalo_large_n"],
-        cwd=TESTS.parent,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    runs = re.findall(r"^\[(gw\d+)\] .*?PASSED (.+?) *$", r.stdout, re.M)
-    assert len(runs) >= 4, r.stdout[-3000:]
-    assert all(node.endswith("@" + conftest.SMOKE_GROUP) for _, node in runs), runs
-    assert len({worker for worker, _ in runs}) == 1, runs
