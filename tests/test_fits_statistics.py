@@ -1,4 +1,4 @@
-"""Mutation guards for hmfdiff.analysis.fits: the error bar of N*D_MD (standard error of the
+"""Guards for hmfdiff.analysis.fits: the error bar of N*D_MD (standard error of the
 mean, ddof 1), the fit window's inclusive ends, the tracked density of MD(bath), and the
 log-linear interpolation of the theory.  Every reference is a synthetic input whose answer is
 known in closed form (exact straight lines, exact exponentials, a uniform density), not the

@@ -1,4 +1,4 @@
-"""Mutation guard for hmfdiff.dynamics.integrator: the timing of the field felt by test
+"""Guards for hmfdiff.dynamics.integrator: the timing of the field felt by test
 particles in `advance_system`."""
 
 import numpy as np

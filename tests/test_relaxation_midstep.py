@@ -1,4 +1,4 @@
-"""Mutation guards for hmfdiff.kinetic.relaxation: the orbits of each step are those of the
+"""Guards for hmfdiff.kinetic.relaxation: the orbits of each step are those of the
 mid-step magnetisation.
 
 `evolve` builds the collision operator of each step at a predicted mid-step M0 (the docstring:

@@ -1,4 +1,4 @@
-"""Mutation guards for hmfdiff.analysis.relaxation_rates: the standard error of a mean over
+"""Guards for hmfdiff.analysis.relaxation_rates: the standard error of a mean over
 realisations (ddof 1), the fractions below each edge counting the overflow, and the kinetic
 changes since tau = 0 (dM, dC, dS) of a synthetic evolution whose answer is known in closed
 form."""
