@@ -32,6 +32,15 @@ def test_tabulated_copy_has_the_same_M0_and_f(pair):
     )
 
 
+def test_tabulated_copy_has_the_energy_of_its_state(pair):
+    """u = <p^2>/2 - M0^2/2 = <h> + M0^2/2: the thermal state is built from u = -0.1 itself, so
+    its copy must give -0.1 back (the sign of M0^2/2 flipped moves it by M0^2)."""
+    state, tab = pair
+    assert tab.u == pytest.approx(state.u, abs=1e-8)
+    if state.kind == "thermal":
+        assert tab.u == pytest.approx(-0.1, abs=1e-8)
+
+
 def test_tabulated_copy_reproduces_eps(pair):
     state, tab = pair
     omega = np.linspace(0.01, 3.0, 300)
