@@ -41,6 +41,26 @@ def test_tabulated_copy_has_the_energy_of_its_state(pair):
         assert tab.u == pytest.approx(-0.1, abs=1e-8)
 
 
+def test_tabulated_thermal_entropy_is_the_closed_form():
+    """S = -int f ln f dtheta dp of f = C exp(-beta h), with 1/C = sqrt(2 pi/beta) 2 pi
+    I0(beta M0) and <h> = u - M0^2/2: S = ln(1/C) + beta (u - M0^2/2).  Guards against the sign
+    of the entropy (and a lost ln C)."""
+    from scipy.special import i0
+
+    state = ThermalState(u=-0.1)
+    tab = tabulate(state, n_nodes=2001)
+    b, M0 = state.beta, state.M0
+    ref = np.log(np.sqrt(2 * np.pi / b) * 2 * np.pi * i0(b * M0)) + b * (-0.1 - 0.5 * M0**2)
+    assert tab.entropy == pytest.approx(ref, abs=1e-7)
+
+
+@pytest.mark.parametrize("M0", [0.0, 1.0, 1.5, -0.2, float("nan")])
+def test_tabulated_state_refuses_a_given_M0_outside_its_range(M0):
+    jbar = np.linspace(0.0, 3.0, 50)
+    with pytest.raises(EquilibriumError, match="0 < M0 < 1"):
+        TabulatedState(jbar, np.exp(-jbar), M0=M0)
+
+
 def test_tabulated_copy_reproduces_eps(pair):
     state, tab = pair
     omega = np.linspace(0.01, 3.0, 300)
