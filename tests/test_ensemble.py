@@ -155,3 +155,15 @@ def test_bad_input_is_refused():
             jbar_edges=[0.0, 1.0],
             seed=0,
         )
+
+
+def test_each_realisation_starts_at_rest_with_its_magnetisation_on_x():
+    """Each realisation's mean momentum is removed and its angles are rotated so that its own
+    magnetisation lies on x (an ensemble whose centres of mass drift would carry the sampling
+    noise of <p>, ~ 1/sqrt(N), into every action); the draws stay those of the state."""
+    state = ThermalState(M0=0.6)
+    ens = ensemble._initial_ensemble(state, 400, 5, seed=3)
+    np.testing.assert_allclose(ens.p.mean(axis=1), 0.0, atol=1e-14)
+    np.testing.assert_allclose(np.sin(ens.theta).mean(axis=1), 0.0, atol=1e-14)
+    assert np.all(np.cos(ens.theta).mean(axis=1) > 0.4)
+    assert np.all(ens.p.std(axis=1) > 0.5)  # momenta drawn, not zeroed
