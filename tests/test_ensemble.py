@@ -101,6 +101,10 @@ def test_measurement_times_are_whole_steps_dense_early():
     np.testing.assert_allclose(steps, np.rint(steps), atol=1e-9)
     assert np.all(np.diff(t) > 0)
     assert np.diff(t)[0] < np.diff(t)[-1] / 100  # dense early, sparse late
+    # 0, then 29 times from 10 dt = 0.5 to 1000 in the ratio (2000)^(1/28) = 1.31 (no two of
+    # them round to the same step): all 30 kept, the second at t_first
+    assert t.size == 30 and t[1] == pytest.approx(0.5)
+    assert t[2] == pytest.approx(0.05 * np.rint(0.5 * 2000 ** (1 / 28) / 0.05))
 
 
 def test_thermal_state_stays_thermal():
