@@ -12,7 +12,13 @@ import pytest
 import xarray as xr
 
 from hmfdiff.analysis.fits import VALIDATION_FLAGS, diffusion_fit, validation_rows
-from hmfdiff.pipeline.io import InputFileError, atomic_path, read_dataset, write_dataset
+from hmfdiff.pipeline.io import (
+    InputFileError,
+    atomic_path,
+    check_physical,
+    read_dataset,
+    write_dataset,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -140,15 +146,30 @@ def test_reader_refuses_a_time_axis_that_does_not_increase(tmp_path, variable, c
         read_dataset(tmp_path / "old.nc")
 
 
-def test_reader_honours_valid_range(tmp_path):
+@pytest.mark.parametrize(
+    "limits", [dict(valid_min=-1.0, valid_max=1.0), dict(valid_range=np.array([-1.0, 1.0]))]
+)
+def test_reader_honours_valid_range(tmp_path, limits):
+    """Both CF forms of the limits (valid_min/valid_max, valid_range) are enforced."""
     ds = md_like()
-    ds["Mx"].attrs.update(valid_min=-1.0, valid_max=1.0)
+    ds["Mx"].attrs.update(limits)
     ds.to_netcdf(tmp_path / "ok.nc", engine="netcdf4")
     read_dataset(tmp_path / "ok.nc")
     ds["Mx"].values[3] = 7.0
     ds.to_netcdf(tmp_path / "bad.nc", engine="netcdf4")
     with pytest.raises(InputFileError, match=r"bad\.nc: variable 'Mx' lies outside its valid"):
         read_dataset(tmp_path / "bad.nc")
+
+
+@pytest.mark.parametrize("value", [-1e-3, np.inf])
+def test_nonnegative_check_refuses_negative_and_infinite_values(tmp_path, value):
+    ds = md_like()
+    ds["sum_dJbar2"].values.flat[7] = value
+    ds.to_netcdf(tmp_path / "old.nc", engine="netcdf4")
+    back = read_dataset(tmp_path / "old.nc")
+    check_physical(back, nonnegative=["count"])  # other variables: not checked
+    with pytest.raises(InputFileError, match=r"old\.nc: variable .sum_dJbar2. is negative or inf"):
+        check_physical(back, nonnegative=["sum_dJbar2"])
 
 
 def test_write_refuses_a_variable_without_units_and_leaves_nothing(tmp_path):
