@@ -2,6 +2,8 @@
 labels (a), (b), ... in reading order, numbers as mathtext powers of ten, labelled axes."""
 
 import re
+import subprocess
+import sys
 
 import matplotlib.figure
 import numpy as np
@@ -320,3 +322,19 @@ def test_fig16_draws_the_file_values_and_both_equations(drawn, tmp_path_factory)
     np.testing.assert_allclose(
         points(axes[3]), finite(n / comparison["t_relax_md"].values), rtol=1e-12
     )
+
+
+def test_reading_the_registry_leaves_pyplot_unimported():
+    """Every start of the workflow (each dry run, each Slurm job) reads the figure registry;
+    pyplot is imported only when a figure is drawn (`style.plt`), which then works as pyplot."""
+    code = (
+        "import sys\n"
+        "from hmfdiff.analysis.figures.registry import FIGURES\n"
+        "assert FIGURES and 'matplotlib.pyplot' not in sys.modules, 'pyplot imported'\n"
+        "from hmfdiff.analysis.figures.style import plt\n"
+        "fig, ax = plt.subplots()\n"
+        "assert 'matplotlib.pyplot' in sys.modules and plt.get_backend().lower() == 'agg'\n"
+        "assert plt.rcParams['savefig.dpi'] == 150\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
