@@ -72,6 +72,17 @@ def test_thermal_dfdkappa_is_derivative():
     np.testing.assert_allclose(s.dfdkappa(k), (s.f(k + d) - s.f(k - d)) / (2 * d), rtol=1e-7)
 
 
+def test_core_halo_dfdkappa_is_derivative():
+    """df/dkappa = 4 M0 kappa df/dh of the core-halo state (h = M0 (2 kappa^2 - 1)) against
+    central differences of f(kappa), across both Fermi edges of ch2*: the derivative feeds the
+    dielectric tensor and the diffusion currents (a 2 for the 4 halves it)."""
+    s = eq.CoreHaloState(0.298, 0.051, -0.517, 0.19, 30.0, 10.0)
+    k = np.linspace(0.05, 2.0, 40)
+    d = 1e-6
+    fd = (s.f(k + d) - s.f(k - d)) / (2 * d)
+    np.testing.assert_allclose(s.dfdkappa(k), fd, rtol=1e-6, atol=1e-9 * np.abs(fd).max())
+
+
 @pytest.mark.parametrize("params,M0_expected", [((0.298, 0.051, -0.517, 0.19, 30.0, 10.0), 0.8)])
 def test_core_halo_self_consistent_direct(params, M0_expected):
     """ch2*: the paper says M0 = 0.8; check self-consistency and normalisation directly."""
@@ -100,6 +111,7 @@ def test_two_step_state():
     [
         ({"M0": 1.2}, "M0 = 1.2 is outside the allowed range 0 < M0 < 1"),
         ({"M0": 0.0}, "outside the allowed range"),
+        ({"M0": 1.0}, "outside the allowed range"),  # |M| = 1: every particle at theta = 0
         ({"u": 0.3}, "u = 0.3 has no magnetised thermal state"),
         ({"u": -0.6}, "allowed range"),
         ({"M0": 0.5, "u": 0.0}, "exactly one of M0 or u"),
