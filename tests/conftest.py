@@ -13,7 +13,7 @@ import inspect
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from scipy.integrate import quad, solve_ivp
 
 
 def pendulum_rhs(t, y, M0):
@@ -64,6 +64,20 @@ def integrate_orbit(kappa, M0, sign=1.0, n_periods=1.0, n_samples=None, t_end=No
     t = np.arange(n_samples) * period / n_samples
     theta, p = sol.sol(t)
     return period, t, theta, p
+
+
+def action_by_quadrature(kappa, M0, rtol=1e-13):
+    """J = (1/2 pi) oint p dtheta of the pendulum orbit kappa, p = sqrt(2 (h + M0 cos theta)),
+    h = M0 (2 kappa^2 - 1), by scipy quad (independent of the elliptic closed forms)."""
+    h = M0 * (2.0 * kappa**2 - 1.0)
+
+    def p(t):
+        return np.sqrt(max(2.0 * (h + M0 * np.cos(t)), 0.0))
+
+    if kappa < 1.0:
+        tmax = 2.0 * np.arcsin(kappa)
+        return 4.0 * quad(p, 0.0, tmax, epsabs=1e-14, epsrel=rtol)[0] / (2.0 * np.pi)
+    return 2.0 * quad(p, 0.0, np.pi, epsabs=1e-14, epsrel=rtol)[0] / (2.0 * np.pi)
 
 
 SMOKE_GROUP = "smoke"

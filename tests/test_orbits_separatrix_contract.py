@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import action_by_quadrature
 from scipy import integrate
 
 from hmfdiff.meanfield import orbits
@@ -57,16 +58,8 @@ def test_rotating_action_below_the_separatrix_value_is_refused():
 
 def _jbar_quadrature(kappa):
     """J-bar from (1/2 pi) oint p dtheta: J/2 on librating orbits, J on rotating ones."""
-    h = M0 * (2.0 * kappa**2 - 1.0)
-
-    def p(t):
-        return np.sqrt(max(2.0 * (h + M0 * np.cos(t)), 0.0))
-
-    if kappa < 1.0:
-        tmax = 2.0 * np.arcsin(kappa)
-        J = 4.0 * integrate.quad(p, 0.0, tmax, epsabs=1e-14, epsrel=1e-13)[0] / (2 * np.pi)
-        return J / 2.0
-    return 2.0 * integrate.quad(p, 0.0, np.pi, epsabs=1e-14, epsrel=1e-13)[0] / (2 * np.pi)
+    J = action_by_quadrature(kappa, M0)
+    return J / 2.0 if kappa < 1.0 else J
 
 
 def test_kappa_from_rescaled_action_inverts_the_orbit_quadrature():

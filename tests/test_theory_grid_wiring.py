@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy import integrate
+from conftest import action_by_quadrature
 
 import hmfdiff.kinetic.theory as theory
 from hmfdiff.kinetic.dielectric import DielectricTensor
@@ -48,16 +48,7 @@ def grid(state):
 
 
 def _action_quadrature(kappa):
-    """J = (1/2 pi) oint p dtheta with p = sqrt(2 (h + M0 cos theta)), h = M0 (2 kappa^2 - 1)."""
-    h = M0 * (2.0 * kappa**2 - 1.0)
-
-    def p(t):
-        return np.sqrt(max(2.0 * (h + M0 * np.cos(t)), 0.0))
-
-    if kappa < 1.0:
-        tmax = 2.0 * np.arcsin(kappa)
-        return 4.0 * integrate.quad(p, 0.0, tmax, epsabs=1e-13, epsrel=1e-12)[0] / (2.0 * np.pi)
-    return 2.0 * integrate.quad(p, 0.0, np.pi, epsabs=1e-13, epsrel=1e-12)[0] / (2.0 * np.pi)
+    return action_by_quadrature(kappa, M0, rtol=1e-12)
 
 
 def test_default_omega_runs_from_zero_to_four_omega0():
