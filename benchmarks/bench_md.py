@@ -28,6 +28,7 @@ import time
 
 import numba
 import numpy as np
+import previous_kernels
 
 from hmfdiff.dynamics import accumulator, elementary, exact_bath, integrator, md, sampling
 from hmfdiff.dynamics.settings import MDRun
@@ -108,20 +109,38 @@ def measure(n, threads, n_test_bath):
     empty = integrator.Particles(np.zeros(0), np.zeros(0))
     M = P.moments()[:2]
     steps = dict(M=M, n_steps=n_steps, dt=dt, M0=M0)
-    t_full = best_of(lambda: integrator.advance_system(P, empty, dynamics="full", **steps))
-    # load-robust figure: one thread, CPU time of this process (what a core delivers)
-    numba.set_num_threads(1)
-    cpu = np.inf
-    for _ in range(3):
-        c0 = time.process_time()
+    # the previous kernel on the same particles; the two timed alternately, so that a
+    # machine whose speed drifts (a shared one) affects both alike
+    tha, pa = sampling.wrap_angle(th), p.copy()
+    Sa, Ca = np.sin(tha), np.cos(tha)
+    previous_kernels.full_steps(tha[:100].copy(), pa[:100].copy(), Sa[:100].copy(), Ca[:100].copy(),
+                            2, dt, M[0], M[1])  # fmt: skip
+
+    def present():
         integrator.advance_system(P, empty, dynamics="full", **steps)
-        cpu = min(cpu, time.process_time() - c0)
-    numba.set_num_threads(threads)
+
+    def previous():
+        previous_kernels.full_steps(tha, pa, Sa, Ca, n_steps, dt, M[0], M[1])
+
+    wall = {present: np.inf, previous: np.inf}
+    cpu = {present: np.inf, previous: np.inf}
+    for _ in range(5):
+        for fn in (present, previous):
+            wall[fn] = min(wall[fn], best_of(fn, reps=1))
+            # load-robust figure: one thread, CPU time of this process (what a core delivers)
+            numba.set_num_threads(1)
+            c0 = time.process_time()
+            fn()
+            cpu[fn] = min(cpu[fn], time.process_time() - c0)
+            numba.set_num_threads(threads)
+    t_full, t_prev, cpu_prev = wall[present], wall[previous], cpu[previous]
+    cpu = cpu[present]
     B, T = integrator.Particles(th, p), integrator.Particles(th_t, p_t)
     t_bath = best_of(lambda: integrator.advance_system(B, T, dynamics="bath", **steps))
-    t_act = best_of(lambda: elementary.actions(P.theta, P.p, M0, 0.01), reps=5)
+    elementary.frame_actions(P.S[:100], P.C[:100], P.p[:100], M0, 0.1)
+    t_act = best_of(lambda: elementary.frame_actions(P.S, P.C, P.p, M0, 0.01), reps=5)
     # <dJ^2> accumulation: cost per (active origin, particle) at one sampling time
-    J, Jb = elementary.actions(P.theta, P.p, M0, 0.01)
+    J, Jb = elementary.frame_actions(P.S, P.C, P.p, M0, 0.01)
     acc = accumulator.DisplacementAccumulator(n, np.linspace(0.0, 2.0, 41), 200, 100, 5, 4)
     for s in range(101):
         acc.add(s, J, Jb)  # fills the ring buffer: 21 active origins from s = 100 on
@@ -139,6 +158,8 @@ def measure(n, threads, n_test_bath):
         "n_test_bath": n_test_bath,
         "full_psteps_per_s": n * n_steps / t_full,
         "full_psteps_per_cpu_s_1thread": n * n_steps / cpu,
+        "previous_full_psteps_per_s": n * n_steps / t_prev,
+        "previous_full_psteps_per_cpu_s_1thread": n * n_steps / cpu_prev,
         "bath_psteps_per_s": (n + n_test_bath) * n_steps / t_bath,
         "numpy_psteps_per_s": n * n_np / t_np_full,
         "numpy_bath_psteps_per_s": (n + n_test_bath) * n_np / t_np_bath,
@@ -150,6 +171,7 @@ def measure(n, threads, n_test_bath):
         "threading_layer": numba.threading_layer(),
     }
     res["full_speedup_vs_numpy"] = res["full_psteps_per_s"] / res["numpy_psteps_per_s"]
+    res["full_speedup_vs_previous"] = res["full_psteps_per_s"] / res["previous_full_psteps_per_s"]
     res["bath_speedup_vs_numpy"] = res["bath_psteps_per_s"] / res["numpy_bath_psteps_per_s"]
     res["actions_speedup_vs_numpy"] = (
         res["numpy_actions_seconds_per_5e5"] / res["actions_seconds_per_5e5"]
@@ -284,6 +306,12 @@ def main(argv=None):
     print(
         f"full dynamics, 1 thread, per CPU second (insensitive to other load): "
         f"{res['full_psteps_per_cpu_s_1thread']:.3g}"
+    )
+    print(
+        f"previous kernel (angle stored, sincos every step): "
+        f"{res['previous_full_psteps_per_s']:.3g} particle-steps/s, 1 thread per CPU second "
+        f"{res['previous_full_psteps_per_cpu_s_1thread']:.3g}  "
+        f"(present x{res['full_speedup_vs_previous']:.2f})"
     )
     print(
         f"bath dynamics:  {res['bath_psteps_per_s']:.3g} particle-steps/s   "

@@ -6,7 +6,8 @@ realisations are independent, so the parallel loop runs over them and each one i
 to the end of the interval while its N particles sit in cache (N = 500 ... 8000 particles are
 32-256 kB).  The arithmetic of one realisation is that of the single-system kernel
 (`integrator`): the same fused velocity-Verlet step (`integrator._chunk_step`), the same
-chunked reduction of the magnetisation in the same order, so a realisation follows the
+chunked reduction of the magnetisation in the same order and the same per-chunk choice of the
+drift's sincos, so a realisation follows the
 single-system integration to rounding, and the result does not depend on the thread count.
 
 Measurements, at times given by a schedule (`measurement_times`: dense early, sparse late):
@@ -23,6 +24,7 @@ each realisation's own |M| ('hist_own') and with the initial state's static M0
 
 from __future__ import annotations
 
+import math
 import sys
 import time as _time
 
@@ -31,8 +33,8 @@ import numpy as np
 from numba import njit, prange
 
 from . import sampling
-from .elementary import _CHUNK, _FM, actions, sincos_wrapped_array
-from .integrator import _chunk_step
+from .elementary import _CHUNK, _FM, angles, frame_actions, sincos_wrapped_array
+from .integrator import _BOUND_REFRESH, _chunk_p_bound, _chunk_step
 
 __all__ = ["ACTION_MEASURES", "Ensemble", "measurement_times", "run_ensemble"]
 
@@ -43,31 +45,41 @@ ACTION_MEASURES = ("", "_own", "_static")
 
 
 @njit(fastmath={"contract"}, parallel=True)
-def _ensemble_steps(theta, p, S, C, M, n_steps, dt):
-    """n_steps velocity-Verlet steps of every realisation (rows of theta, p, S = sin theta,
+def _ensemble_steps(p, S, C, M, n_steps, dt):
+    """n_steps velocity-Verlet steps of every realisation (rows of p, S = sin theta,
     C = cos theta), in place; M[r] = (Mx, My) of realisation r on entry and on exit.  p is
-    synchronised with theta on exit (a last half kick)."""
-    R, N = theta.shape
+    synchronised with the angles on exit (a last half kick, which also divides (S, C) by its
+    norm, as `integrator`'s closing kick does)."""
+    R, N = p.shape
     h = 0.5 * dt
+    n_chunks = (N + _CHUNK - 1) // _CHUNK
     for r in prange(R):
         fx = M[r, 0]
         fy = M[r, 1]
         kick = h
-        for _ in range(n_steps):
+        bound = np.zeros(n_chunks)
+        for j in range(n_steps):
             tc = 0.0
             ts = 0.0
-            for lo in range(0, N, _CHUNK):
+            for ch in range(n_chunks):
+                lo = ch * _CHUNK
                 hi = min(lo + _CHUNK, N)
+                if j % _BOUND_REFRESH == 0:
+                    bound[ch] = _chunk_p_bound(p[r, lo:hi])
                 a, b = _chunk_step(
-                    theta[r, lo:hi], p[r, lo:hi], S[r, lo:hi], C[r, lo:hi], kick, dt, fx, fy
+                    p[r, lo:hi], S[r, lo:hi], C[r, lo:hi], kick, dt, fx, fy, bound[ch]
                 )
                 tc += a
                 ts += b
+                bound[ch] += abs(kick) * (abs(fx) + abs(fy))
             fx = tc / N
             fy = ts / N
             kick = dt
         for i in range(N):
             p[r, i] = p[r, i] + h * (fy * C[r, i] - fx * S[r, i])
+            norm = 1.0 / math.sqrt(S[r, i] * S[r, i] + C[r, i] * C[r, i])
+            S[r, i] = S[r, i] * norm
+            C[r, i] = C[r, i] * norm
         M[r, 0] = fx
         M[r, 1] = fy
 
@@ -93,24 +105,29 @@ def _ensemble_moments(p, S, C, out):
 
 
 class Ensemble:
-    """R realisations of N particles: theta, p of shape (R, N), the cached sin and cos of the
-    angles, and the magnetisation (Mx, My) of each realisation."""
+    """R realisations of N particles: p and the sin S and cos C of the angles, of shape (R, N)
+    (the angles themselves: `theta`), and the magnetisation (Mx, My) of each realisation."""
 
     def __init__(self, theta, p):
         theta = np.atleast_2d(np.asarray(theta, dtype=np.float64))
         p = np.atleast_2d(np.asarray(p, dtype=np.float64))
         if theta.shape != p.shape or theta.shape[1] < 1:
             raise ValueError(f"theta {theta.shape} and p {p.shape} must both be (R, N), N >= 1")
-        self.theta = np.ascontiguousarray(sampling.wrap_angle(theta))
+        theta = np.ascontiguousarray(sampling.wrap_angle(theta))
         self.p = np.ascontiguousarray(p).copy()
-        s, c = sincos_wrapped_array(self.theta)
-        self.S = s.reshape(self.theta.shape)
-        self.C = c.reshape(self.theta.shape)
+        s, c = sincos_wrapped_array(theta)
+        self.S = s.reshape(theta.shape)
+        self.C = c.reshape(theta.shape)
         self.M = np.ascontiguousarray(self.moments()[:, :2])
 
     @property
+    def theta(self):
+        """The angles in [-pi, pi), shape (R, N): atan2(S, C) (computed on each access)."""
+        return angles(self.S, self.C)
+
+    @property
     def shape(self):
-        return self.theta.shape
+        return self.p.shape
 
     def moments(self):
         """(R, 4): Mx, My, mean p, mean p^2 of each realisation."""
@@ -121,7 +138,7 @@ class Ensemble:
     def advance(self, n_steps, dt):
         """n_steps velocity-Verlet steps of every realisation (eq. hmfmdfull)."""
         if n_steps > 0:
-            _ensemble_steps(self.theta, self.p, self.S, self.C, self.M, int(n_steps), float(dt))
+            _ensemble_steps(self.p, self.S, self.C, self.M, int(n_steps), float(dt))
 
     def energy(self, mom=None):
         """H/N = <p^2>/2 - |M|^2/2 per realisation (eq. hmfhamiltonian)."""
@@ -223,7 +240,7 @@ def run_ensemble(
         out["M0_actions"][k] = m0
         for r in range(R):
             for measure, m in zip(ACTION_MEASURES, (m0, m_abs[r], m_static), strict=True):
-                actions(ens.theta[r], ens.p[r], float(m), float(phase[r]), (J, Jb))
+                frame_actions(ens.S[r], ens.C[r], ens.p[r], float(m), float(phase[r]), (J, Jb))
                 idx = np.searchsorted(edges, Jb, side="right") - 1
                 inside = (idx >= 0) & (idx < B)
                 out["hist" + measure][k, r] = np.bincount(idx[inside], minlength=B)

@@ -36,7 +36,7 @@ import numpy as np
 
 from . import sampling
 from .accumulator import DisplacementAccumulator
-from .elementary import actions
+from .elementary import angles, frame_actions
 from .exact_bath import ExactBath
 from .integrator import INTEGRATOR, Particles, advance_in_field, advance_system
 from .settings import MDRun
@@ -225,12 +225,17 @@ def run_md(
                 ts["energy"][s] = 0.5 * mom[3] - M0 * mom[0]
         phase = math.atan2(ts["My"][s], ts["Mx"][s]) if full else 0.0
         if full:
-            th_f = bath.theta if all_tracked else bath.theta[track]
-            p_f = bath.p if all_tracked else bath.p[track]
-            actions(th_f, p_f, M0, phase, (J[:n_f], Jb[:n_f]))
+            if all_tracked:
+                sc_f = (bath.S, bath.C, bath.p)
+            else:
+                sc_f = (bath.S[track], bath.C[track], bath.p[track])
+            frame_actions(*sc_f, M0, phase, (J[:n_f], Jb[:n_f]))
         if run.n_test:
-            actions(test.theta, test.p, M0, phase, (J[n_f:], Jb[n_f:]))
-        th_st = np.concatenate([bath.theta[st_b], test.theta[st_t]])
+            frame_actions(test.S, test.C, test.p, M0, phase, (J[n_f:], Jb[n_f:]))
+        th_st = angles(
+            np.concatenate([bath.S[st_b], test.S[st_t]]),
+            np.concatenate([bath.C[st_b], test.C[st_t]]),
+        )
         store_th[s] = sampling.wrap_angle(th_st - phase)
         store_p[s] = np.concatenate([bath.p[st_b], test.p[st_t]])
         store_J[s] = J[store_idx]
