@@ -25,8 +25,9 @@ def _row(case, dyn, ratio, z, flag=0, n_seeds=20, kappa0=0.5, **kw):
         kappa0=kappa0,
         n_particles_in_bin=1000,
         ND_md=ratio,
-        ND_md_err=0.1,
-        ND_theory=1.0,
+        ND_md_err=kw.get("ND_md_err", 0.1),
+        ND_theory=kw.get("ND_theory", 1.0),
+        ND_windowed=kw.get("ND_windowed", 1.0),
         ratio=ratio,
         z=z,
         flag=flag,
@@ -78,6 +79,26 @@ def test_expected_values_match_student_t_samples():
     wide = agreement([_row("c", "full", 1.0, 2 * float(v), n_seeds=nu + 1) for v in z])[0]
     assert wide["frac_z2"] < wide["frac_z2_expected"] - 0.2
     assert wide["mean_z2"] > 3 * wide["mean_z2_expected"]
+
+
+def test_expected_median_is_the_noise_floor():
+    """The median of |ratio - 1| expected from the errors alone: 0.6745 sigma for Gaussian
+    errors (many seeds), sigma for Cauchy (two seeds: median |t_1| = 1); for a mixture of
+    errors it is the sample median of numpy's t draws (independent of scipy's cdf); the
+    windowed comparison divides the error by its own theory."""
+    many = agreement([_row("a", "bath", 1.0, 0.0, n_seeds=10**6, ND_md_err=0.1)])[0]
+    assert many["median_dev_expected"] == pytest.approx(0.1 * 0.6744897502, rel=1e-5)
+    two = agreement([_row("a", "bath", 1.0, 0.0, n_seeds=2, ND_md_err=0.05)])[0]
+    assert two["median_dev_expected"] == pytest.approx(0.05, rel=1e-9)
+    rng = np.random.default_rng(11)
+    sig = rng.uniform(0.02, 0.12, 400)
+    rows = [_row("a", "full", 1.0, 0.0, n_seeds=20, ND_md_err=s) for s in sig]
+    draws = np.median(np.abs(rng.standard_t(19, (4000, sig.size)) * sig), axis=1)
+    assert agreement(rows)[0]["median_dev_expected"] == pytest.approx(np.mean(draws), rel=0.01)
+    # relative errors: 0.05 / 2 against the asymptotic theory, 0.05 / 0.5 against the windowed
+    row = _row("a", "bath", 1.0, 0.0, n_seeds=2, ND_md_err=0.05, ND_theory=2.0, ND_windowed=0.5)
+    assert agreement([row])[0]["median_dev_expected"] == pytest.approx(0.025, rel=1e-9)
+    assert agreement([row], "windowed")[0]["median_dev_expected"] == pytest.approx(0.1, rel=1e-9)
 
 
 def test_windowed_block_uses_the_windowed_columns():

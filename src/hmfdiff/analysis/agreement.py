@@ -4,8 +4,11 @@ Bins used: flag 0 of `fits.VALIDATION_FLAGS`, i.e. at least `md.min_particles` p
 bin, |kappa0 - 1| at least `md.separatrix_band_fit`, and a finite MD value, theory and error.
 For each case and dynamics, and pooled over all of them:
 
-* the median of |ratio - 1| and the mean ratio with its standard error (spread of the ratios
-  over the bins / sqrt(bins));
+* the median of |ratio - 1|, beside the median expected if the MD values scatter about the
+  theory as their errors say (the median of the mixture over the bins of |t_nu| sigma_i, with
+  sigma_i = ND_md_err / theory the bin's relative error: the floor that the realisations'
+  statistics set), and the mean ratio with its standard error (spread of the ratios over the
+  bins / sqrt(bins));
 * the fraction of bins with |z| < 2 and the mean z^2, each beside the value expected if the MD
   values scatter about the theory as their errors say: z = (ND_md - ND_theory) / ND_md_err with
   the error the standard error over n_seeds independent realisations is Student-t distributed
@@ -34,7 +37,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
+from scipy import optimize, stats
 
 __all__ = [
     "SELECTION",
@@ -50,12 +53,13 @@ SELECTION = (
     "bins with flag 0: at least md.min_particles particles, |kappa0 - 1| >= "
     "md.separatrix_band_fit, finite MD value, theory and error"
 )
-#: the two comparisons: (label, ratio column, z column, theory name per dynamics)
+#: the two comparisons: (label, ratio column, z column, theory column, theory name per dynamics)
 COMPARISONS = {
-    "asymptotic": ("ratio", "z", {"bath": "Landau", "full": "Lenard-Balescu"}),
+    "asymptotic": ("ratio", "z", "ND_theory", {"bath": "Landau", "full": "Lenard-Balescu"}),
     "windowed": (
         "ratio_windowed",
         "z_windowed",
+        "ND_windowed",
         {"bath": "windowed bare (Landau)", "full": "windowed dressed (Lenard-Balescu)"},
     ),
 }
@@ -77,6 +81,21 @@ def _expected(dof):
     with np.errstate(divide="ignore", invalid="ignore"):
         z2 = np.where(dof > 2, dof / (dof - 2.0), np.inf)
     return p2, z2
+
+
+def _expected_median(rel_err, dof):
+    """The median m of |ratio - 1| over bins i whose ratio - 1 = sigma_i t_i, t_i Student t
+    with dof_i degrees of freedom: the root of mean_i P(|t_i| < m / sigma_i) = 1/2 (the median
+    of the mixture, which the sample median of many bins approaches)."""
+    sig = np.asarray(rel_err, dtype=float)
+    dof = np.asarray(dof, dtype=float)
+
+    def below(m):
+        return float(np.mean(2.0 * stats.t.cdf(m / sig, dof) - 1.0)) - 0.5
+
+    # at hi every P(|t_i| < hi / sigma_i) >= P(|t_1| < 10) = 0.94 > 1/2: the root is below
+    hi = 10.0 * float(np.max(sig))
+    return float(optimize.brentq(below, 0.0, hi, xtol=1e-12))
 
 
 def _p_outlier(dof):
@@ -112,11 +131,11 @@ def _usable(rows, ratio, z):
 
 def agreement(rows, comparison="asymptotic"):
     """Statistics per (case, dynamics) and pooled ('all', 'all'), as a list of dicts with keys
-    case, dynamics, theory, bins, median_dev, mean_ratio, mean_ratio_err, frac_z2,
+    case, dynamics, theory, bins, median_dev, median_dev_expected, mean_ratio, mean_ratio_err, frac_z2,
     frac_z2_expected, mean_z2, mean_z2_expected, outliers (list of rows with |z| > 3) and
     outliers_expected (their number under Student t); then, pooled, the bins beside the
     separatrix band ('beside separatrix', `beside_separatrix`) and all others ('elsewhere')."""
-    ratio, z, theory = COMPARISONS[comparison]
+    ratio, z, theory_col, theory = COMPARISONS[comparison]
     keys = list(dict.fromkeys((r["case"], r["dynamics"]) for r in rows))
     groups = [(c, d, [r for r in rows if (r["case"], r["dynamics"]) == (c, d)]) for c, d in keys]
     groups.append(("all", "all", list(rows)))
@@ -134,9 +153,11 @@ def agreement(rows, comparison="asymptotic"):
         zs = np.array([r[z] for r in sel], dtype=float)
         dof = [max(int(r.get("n_seeds", 2)) - 1, 1) for r in sel]
         p2, z2 = _expected(dof)
+        rel_err = [abs(r["ND_md_err"] / r[theory_col]) for r in sel]
         entry.update(
             bins=len(sel),
             median_dev=float(np.median(np.abs(q - 1.0))),
+            median_dev_expected=_expected_median(rel_err, dof),
             mean_ratio=float(np.mean(q)),
             mean_ratio_err=float(np.std(q, ddof=1) / np.sqrt(q.size)) if q.size > 1 else np.nan,
             frac_z2=float(np.mean(np.abs(zs) < 2.0)),
@@ -172,7 +193,7 @@ def summary_text(rows):
         "Expected values: Student t with n_seeds - 1 degrees of freedom (the MD error is the "
         "standard error over independent realisations)."
     )
-    for comparison, (ratio, z, _) in COMPARISONS.items():
+    for comparison, (ratio, z, _, _) in COMPARISONS.items():
         lines.append("")
         title = (
             "MD against the asymptotic theory (ND_theory, bin-averaged):"
@@ -182,7 +203,7 @@ def summary_text(rows):
         )
         lines.append(title)
         lines.append(
-            "case dynamics vs theory: bins  median|ratio-1|  mean ratio  "
+            "case dynamics vs theory: bins  median|ratio-1| (expected)  mean ratio  "
             "fraction|z|<2 (expected)  mean z^2 (expected)"
         )
         stats_ = agreement(rows, comparison)
@@ -196,7 +217,7 @@ def summary_text(rows):
                 lines.append(f"{label}: no usable bins")
                 continue
             lines.append(
-                f"{label}: {e['bins']}  {e['median_dev']:.3f}  "
+                f"{label}: {e['bins']}  {e['median_dev']:.3f} ({e['median_dev_expected']:.3f})  "
                 f"{e['mean_ratio']:.3f} +- {e['mean_ratio_err']:.3f}  "
                 f"{e['frac_z2']:.2f} ({e['frac_z2_expected']:.2f})  "
                 f"{e['mean_z2']:.2f} ({e['mean_z2_expected']:.2f})"
@@ -232,7 +253,7 @@ def _outlier_lines(stats_, ratio, z, indent):
 def markdown_table(rows, comparison="asymptotic"):
     """The README's table: one line per case and dynamics, then the pooled line."""
     head = (
-        "| case | dynamics | bins | median \\|ratio - 1\\| | mean ratio | "
+        "| case | dynamics | bins | median \\|ratio - 1\\| (expected) | mean ratio | "
         "\\|z\\| < 2 (expected) | mean z^2 (expected) |\n|---|---|---|---|---|---|---|"
     )
     body = []
@@ -248,7 +269,8 @@ def markdown_table(rows, comparison="asymptotic"):
             )
         )
         body.append(
-            f"| {case} | {dyn} | {e['bins']} | {100 * e['median_dev']:.1f} % | "
+            f"| {case} | {dyn} | {e['bins']} | {100 * e['median_dev']:.1f} % "
+            f"({100 * e['median_dev_expected']:.1f} %) | "
             f"{e['mean_ratio']:.3f} +- {e['mean_ratio_err']:.3f} | "
             f"{100 * e['frac_z2']:.0f} % ({100 * e['frac_z2_expected']:.0f} %) | "
             f"{e['mean_z2']:.2f} ({e['mean_z2_expected']:.2f}) |"
@@ -259,7 +281,7 @@ def markdown_table(rows, comparison="asymptotic"):
 def readme_block(rows):
     """The README's block: per comparison its table and its bins with |z| > 3 by name."""
     out = []
-    for comparison, (ratio, z, _) in COMPARISONS.items():
+    for comparison, (ratio, z, _, _) in COMPARISONS.items():
         what = "asymptotic" if comparison == "asymptotic" else "windowed (finite-time)"
         out += [f"MD against the {what} theory:", "", markdown_table(rows, comparison), ""]
         head, *bad = _outlier_lines(agreement(rows, comparison), ratio, z, indent="- ")
