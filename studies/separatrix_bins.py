@@ -9,7 +9,8 @@ on the MD's own J-bar bins):
 
     python studies/separatrix_bins.py theory     # seconds: truncation, grid, magnetisation
     python studies/separatrix_bins.py windowed   # seconds: the finite-time theory near kappa = 1
-    python studies/separatrix_bins.py md N FIRST LAST   # MD(bath) at u = 0.2475 in fine bins
+    python studies/separatrix_bins.py md N FIRST LAST [full]   # MD(bath) or MD(full) at
+                                                 # u = 0.2475 in fine bins
     python studies/separatrix_bins.py fit        # the fine- and production-bin fits of those
 
 `theory`: N D at the outlier bins with n_max = l_max = 6, 8, 10; on 400 and 1600 kappa nodes;
@@ -19,8 +20,11 @@ Landau D (MD's lags 50-200, 4-20) at kappa 0.97-1.05.  `md`: MD(bath) realisatio
 paper's settings for u = 0.2475 (N_b = N, dt = 0.05, lags to 200, the fit window 50-200) but
 120 J-bar bins (four per production bin) and the 20 000 test particles uniform in
 J-bar in [0.28, 0.50], around the separatrix (J-bar = 0.320), written to
-studies/out/sep_N{N}_seed{s}.nc.  `fit`: N D per fine bin and per production bin (four fine
-bins summed) against the theory, for each N found.
+studies/out/sep_N{N}_seed{s}.nc; with `full`, MD(full) (N interacting particles, 1e5 of them
+tracked, as the production runs, plus 20 000 test particles uniform in J-bar in [0.20, 0.50]) to
+studies/out/sepfull_N{N}_seed{s}.nc.  `fit`: N D per fine bin and per production bin (four
+fine bins summed) against the theory (Landau for MD(bath), Lenard-Balescu for MD(full)), for
+each dynamics and N found.
 """
 
 from __future__ import annotations
@@ -111,7 +115,11 @@ def study_windowed():
         print(f"lags {lags[0]:.0f}-{lags[-1]:.0f}  ", np.round(w, 3))
 
 
-def study_md(n, first, last):
+#: the file-name prefix of each dynamics' realisations in OUT
+PREFIX = {"bath": "sep", "full": "sepfull"}
+
+
+def study_md(n, first, last, dynamics="bath"):
     from hmfdiff.dynamics.md import run_md
     from hmfdiff.dynamics.settings import MDRun
     from hmfdiff.pipeline.layouts.md import md_dataset
@@ -119,8 +127,9 @@ def study_md(n, first, last):
     OUT.mkdir(exist_ok=True)
     run = MDRun(
         case=f"u{U}-separatrix",
-        dynamics="bath",
+        dynamics=dynamics,
         n_particles=n,
+        n_track=100_000 if dynamics == "full" else None,
         n_test=20_000,
         dt=0.05,
         t_max=600.0,
@@ -128,16 +137,17 @@ def study_md(n, first, last):
         max_lag=200.0,
         origin_every=10.0,
         n_bins=FINE * PRODUCTION_BINS,
-        jbar_range=(0.28, 0.50),
+        # MD(full)'s outlier bin below the band (kappa0 = 0.942) lies at J-bar 0.256-0.276
+        jbar_range=(0.28, 0.50) if dynamics == "bath" else (0.20, 0.50),
         m_every=2.0,
         n_store=0,
     )
     for seed in range(first, last + 1):
         t = time.perf_counter()
         md_dataset(run_md(thermal(), run, seed, 1, progress=lambda m: None)).to_netcdf(
-            OUT / f"sep_N{n}_seed{seed}.nc"
+            OUT / f"{PREFIX[dynamics]}_N{n}_seed{seed}.nc"
         )
-        print(f"N = {n}, seed {seed}: {time.perf_counter() - t:.1f} s", flush=True)
+        print(f"{dynamics}, N = {n}, seed {seed}: {time.perf_counter() - t:.1f} s", flush=True)
 
 
 def coarsen(ds, factor):
@@ -153,23 +163,30 @@ def coarsen(ds, factor):
 def study_fit():
     st = thermal()
     ds_th = theory(st, n_kappa=1600, separatrix_band=0.003)
-    sizes = sorted({int(Path(f).name.split("_")[1][1:]) for f in glob.glob(str(OUT / "sep_N*"))})
-    for n in sizes:
-        files = sorted(glob.glob(str(OUT / f"sep_N{n}_seed*.nc")))
-        data = [xr.open_dataset(f) for f in files]
-        for factor, what in ((1, "fine bins"), (FINE, "production bins")):
-            fit = diffusion_fit([coarsen(d, factor) for d in data], FIT_WINDOW, 200, 0.0)
-            th = theory_bin_average(ds_th, fit, st.f)
-            e, nd, err = fit["jbar_edges"].values, fit["ND_md"].values, fit["ND_md_err"].values
-            print(f"N = {n:.0e}, {len(files)} seeds, {what}, fit window {FIT_WINDOW}:")
-            for i in np.flatnonzero(fit["n_particles_in_bin"].values >= 200):
-                lo, hi = kappa_of_jbar(e[i : i + 2], st.M0)
-                if 0.95 < lo < 1.1:
-                    print(
-                        f"  kappa {lo:.3f}-{hi:.3f}: MD {nd[i]:.3f} +- {err[i]:.3f}, "
-                        f"Landau {th[i]:.3f}, ratio {nd[i] / th[i]:.3f}, "
-                        f"z {(nd[i] - th[i]) / err[i]:+.1f}"
-                    )
+    for dynamics, prefix in PREFIX.items():
+        found = glob.glob(str(OUT / f"{prefix}_N*"))
+        for n in sorted({int(Path(f).name.split("_")[1][1:]) for f in found}):
+            fit_size(st, ds_th, dynamics, prefix, n)
+
+
+def fit_size(st, ds_th, dynamics, prefix, n):
+    """The fits of one dynamics and N, fine and production bins, against the theory."""
+    theory_name = {"bath": "Landau", "full": "Lenard-Balescu"}[dynamics]
+    files = sorted(glob.glob(str(OUT / f"{prefix}_N{n}_seed*.nc")))
+    data = [xr.open_dataset(f) for f in files]
+    for factor, what in ((1, "fine bins"), (FINE, "production bins")):
+        fit = diffusion_fit([coarsen(d, factor) for d in data], FIT_WINDOW, 200, 0.0)
+        th = theory_bin_average(ds_th, fit, st.f)
+        e, nd, err = fit["jbar_edges"].values, fit["ND_md"].values, fit["ND_md_err"].values
+        print(f"MD({dynamics}) N = {n:.0e}, {len(files)} seeds, {what}, fit window {FIT_WINDOW}:")
+        for i in np.flatnonzero(fit["n_particles_in_bin"].values >= 200):
+            lo, hi = kappa_of_jbar(e[i : i + 2], st.M0)
+            if 0.9 < lo < 1.1:
+                print(
+                    f"  kappa {lo:.3f}-{hi:.3f}: MD {nd[i]:.3f} +- {err[i]:.3f}, "
+                    f"{theory_name} {th[i]:.3f}, ratio {nd[i] / th[i]:.3f}, "
+                    f"z {(nd[i] - th[i]) / err[i]:+.1f}"
+                )
 
 
 if __name__ == "__main__":
@@ -178,8 +195,9 @@ if __name__ == "__main__":
         study_theory()
     elif what == "windowed":
         study_windowed()
-    elif what == "md" and len(sys.argv) == 5:
-        study_md(int(float(sys.argv[2])), int(sys.argv[3]), int(sys.argv[4]))
+    elif what == "md" and len(sys.argv) in (5, 6) and sys.argv[5:] in ([], ["full"]):
+        dyn = sys.argv[5] if len(sys.argv) == 6 else "bath"
+        study_md(int(float(sys.argv[2])), int(sys.argv[3]), int(sys.argv[4]), dyn)
     elif what == "fit":
         study_fit()
     else:

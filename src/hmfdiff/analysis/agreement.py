@@ -131,8 +131,8 @@ def _usable(rows, ratio, z):
 
 def agreement(rows, comparison="asymptotic"):
     """Statistics per (case, dynamics) and pooled ('all', 'all'), as a list of dicts with keys
-    case, dynamics, theory, bins, median_dev, median_dev_expected, mean_ratio, mean_ratio_err, frac_z2,
-    frac_z2_expected, mean_z2, mean_z2_expected, outliers (list of rows with |z| > 3) and
+    case, dynamics, theory, bins, median_dev, median_dev_expected, mean_ratio, mean_ratio_err,
+    frac_z2, frac_z2_expected, mean_z2, mean_z2_expected, outliers (list of rows with |z| > 3) and
     outliers_expected (their number under Student t); then, pooled, the bins beside the
     separatrix band ('beside separatrix', `beside_separatrix`) and all others ('elsewhere')."""
     ratio, z, theory_col, theory = COMPARISONS[comparison]
