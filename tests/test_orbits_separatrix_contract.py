@@ -40,8 +40,10 @@ def test_action_on_either_side_of_the_separatrix():
 
 
 def test_rescaled_action_is_continuous_through_kappa_one():
-    """J-bar(1) = 4 sqrt(M0)/pi = area/(4 pi), equal to J-bar just below (J/2) and above (J)."""
-    with np.errstate(invalid="ignore"):  # the unused librating branch is inf - inf at kappa = 1
+    """J-bar(1) = 4 sqrt(M0)/pi = area/(4 pi), equal to J-bar just below (J/2) and above (J);
+    and computed without a floating-point warning (the librating branch is not evaluated at
+    kappa = 1, where it would be inf - inf)."""
+    with np.errstate(all="raise"):
         jb = orbits.rescaled_action(np.array([1.0 - 1e-9, 1.0, 1.0 + 1e-9]), M0)
     np.testing.assert_allclose(jb, _separatrix_area() / (4 * np.pi), rtol=1e-6)
     assert orbits.jbar_separatrix(M0) == pytest.approx(_separatrix_area() / (4 * np.pi))

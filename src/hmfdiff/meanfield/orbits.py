@@ -112,7 +112,8 @@ def action(kappa, M0):
     kappa = _as_array(kappa)
     m, m1, lib = _modulus_parameter(kappa)
     s = np.sqrt(M0)
-    lib_part = 8.0 * s / np.pi * _E_minus_m1K(m, m1)
+    # the librating branch at librating points only (at kappa = 1 it would be inf - inf)
+    lib_part = 8.0 * s / np.pi * _E_minus_m1K(np.where(lib, m, 0.0), np.where(lib, m1, 1.0))
     rot_part = 4.0 * s / np.pi * kappa * special.ellipe(m)
     return np.where(lib, lib_part, rot_part)
 
