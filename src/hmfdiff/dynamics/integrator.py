@@ -84,7 +84,8 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
     sc = 0.0
     ss = 0.0
     drift_bound = abs(dt) * (p_bound + abs(h) * (abs(Fx) + abs(Fy)))
-    # range(size), not range(lo, hi): numba's negative-index handling blocks vectorisation
+    # range(size), not range(lo, hi): numba's negative-index handling blocks vectorisation;
+    # two loops that differ in the sincos line only, so that each vectorises without a branch
     if drift_bound <= DRIFT_MAX:
         for i in range(p.size):
             pi_ = p[i] + h * (Fy * C[i] - Fx * S[i])
