@@ -1,12 +1,15 @@
 """Vectorisable elementary kernels of the MD: sin/cos polynomials and actions by the AGM.
 
-sin and cos of a wrapped angle come from a branch-free half-angle polynomial
-(`_sincos_wrapped`, absolute error < 6e-16) so that the particle loops vectorise; a general
+sin and cos of the drift angle dt p of one step come from Taylor polynomials (`_sincos_drift`,
+|dt p| <= DRIFT_MAX, absolute error < 2e-16), those of a wrapped angle from a branch-free
+half-angle polynomial (`_sincos_wrapped`, absolute error < 6e-16), so that the particle loops
+vectorise; a general
 vectorisable sincos (`_sincos`: quadrant reduction with a three-part pi/2, error ~1 ulp for |x|
 up to ~1e5) serves the action evaluation.  Both are tested against numpy.
 
 Actions (eq. hmfaction): J and J-bar of particles at (theta, p), with the static M0, in a frame
-rotated by `phase` (`actions`), or of orbit labels kappa (`actions_from_kappa`).  Both go
+rotated by `phase` (`actions`), the same from (sin theta, cos theta, p) as the MD's particles
+carry them (`frame_actions`), or of orbit labels kappa (`actions_from_kappa`).  Both go
 through one arithmetic-geometric-mean routine (`_agm_actions`, the J formulas written once).
 The library's definition of J stays `hmfdiff.meanfield.orbits.action` (scipy's elliptic
 integrals, used by the sampler and the theory); the compiled AGM matches it to ~1e-15 relative
