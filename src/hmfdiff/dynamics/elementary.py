@@ -284,13 +284,10 @@ def _chunk_frame_actions(S, C, p, cphi, sphi, M0, J, Jbar):
         c = C[i] * cphi + S[i] * sphi
         s = S[i] * cphi - C[i] * sphi
         r2 = c * c + s * s
+        cr = c * math.sqrt(r2)
         # sin^2(x/2) = (1 - cos x)/2, or sin^2 x / (2 (1 + cos x)) where cos x > 0: no
         # cancellation on either side (deeply trapped orbits have x ~ 0)
-        half = (
-            (r2 - c * math.sqrt(r2)) / (2.0 * r2)
-            if c <= 0.0
-            else s * s / (2.0 * (r2 + c * math.sqrt(r2)))
-        )
+        half = (r2 - cr) / (2.0 * r2) if c <= 0.0 else s * s / (2.0 * (r2 + cr))
         k2[i] = p[i] * p[i] * inv4M0 + half
     _agm_actions(k2, math.sqrt(M0), J, Jbar)
 
