@@ -12,6 +12,10 @@ on the MD's own J-bar bins):
     python studies/separatrix_bins.py md N FIRST LAST [full]   # MD(bath) or MD(full) at
                                                  # u = 0.2475 in fine bins
     python studies/separatrix_bins.py fit        # the fine- and production-bin fits of those
+    python studies/separatrix_bins.py propagated # those fine bins against the asymptotic and
+                                                 # the propagated theory (`analysis.propagated`)
+    python studies/separatrix_bins.py magnetisation  # MD(full): N D per realisation against
+                                                 # the realisation's time-averaged |M|
 
 `theory`: N D at the outlier bins with n_max = l_max = 6, 8, 10; on 400 and 1600 kappa nodes;
 for a thermal state whose M0 is 1.5 % and 3 % off (MD(full)'s <|M|> differs from M0 by up to
@@ -24,7 +28,12 @@ studies/out/sep_N{N}_seed{s}.nc; with `full`, MD(full) (N interacting particles,
 tracked, as the production runs, plus 20 000 test particles uniform in J-bar in [0.20, 0.50]) to
 studies/out/sepfull_N{N}_seed{s}.nc.  `fit`: N D per fine bin and per production bin (four
 fine bins summed) against the theory (Landau for MD(bath), Lenard-Balescu for MD(full)), for
-each dynamics and N found.
+each dynamics and N found.  `propagated`: the fine bins with kappa 0.95-1.12 (MD(bath)) or
+0.88-1.12 (MD(full)) against the bin average of the asymptotic theory and against the theory
+propagated over the fit's lags, D from the spectrum (n_max = l_max = 6), interpolated within
+|kappa - 1| < 0.001 (and, for comparison, 0.003; and the theory grid on 1600 nodes): per bin,
+and the mean z and mean z^2 of each.  `magnetisation`: the correlation over MD(full)'s
+realisations between N D in pairs of fine bins and the realisation's time-averaged |M| / M0.
 """
 
 from __future__ import annotations
@@ -189,6 +198,75 @@ def fit_size(st, ds_th, dynamics, prefix, n):
                 )
 
 
+def study_propagated():
+    from hmfdiff.analysis.propagated import nd_from_theory, propagated_at_bins
+    from hmfdiff.kinetic.dielectric import DielectricTensor
+
+    st = thermal()
+    ds_th = theory(st, n_kappa=1600, separatrix_band=0.003)
+    for dynamics, prefix in PREFIX.items():
+        eps = DielectricTensor(st, l_max=6) if dynamics == "full" else None
+        table = SpectrumTable(st, n_max=6, eps=eps)
+
+        def spectrum(k, t=table):
+            return diffusion_from_spectrum(t, k, st.M0)
+
+        variants = {
+            "gap 0.001": dict(nd_of_kappa=spectrum, gap=0.001),
+            "gap 0.003": dict(nd_of_kappa=spectrum, gap=0.003),
+            "grid 1600": dict(nd_of_kappa=nd_from_theory(ds_th, dynamics), gap=0.003),
+        }
+        lo = 0.95 if dynamics == "bath" else 0.88
+        for n in sizes(prefix):
+            files = sorted(glob.glob(str(OUT / f"{prefix}_N{n}_seed*.nc")))
+            fit = diffusion_fit([xr.open_dataset(f) for f in files], FIT_WINDOW, 200, 0.0)
+            th = theory_bin_average(ds_th, fit, st.f)
+            prop = {k: propagated_at_bins(fit, f_of_kappa=st.f, **v) for k, v in variants.items()}
+            nd, err = fit["ND_md"].values, fit["ND_md_err"].values
+            kc = kappa_of_jbar(fit["jbar0"].values, st.M0)
+            sel = (fit["n_particles_in_bin"].values >= 200) & (kc > lo) & (kc < 1.12)
+            sel &= np.isfinite(th) & np.all([np.isfinite(v) for v in prop.values()], axis=0)
+            print(f"MD({dynamics}) N = {n:.0e}, {len(files)} seeds, {sel.sum()} fine bins:")
+            print(
+                "  kappa          MD              asymptotic  propagated (" + ", ".join(prop) + ")"
+            )
+            e = fit["jbar_edges"].values
+            for i in np.flatnonzero(sel):
+                a, b = kappa_of_jbar(e[i : i + 2], st.M0)
+                p = "  ".join(f"{v[i]:7.3f}" for v in prop.values())
+                print(f"  {a:.3f}-{b:.3f}  {nd[i]:7.3f} +- {err[i]:.3f}  {th[i]:7.3f}   {p}")
+            for name, v in {"asymptotic": th, **prop}.items():
+                z = ((nd - v) / err)[sel]
+                print(f"  {name:10s}: mean z {z.mean():+.2f}, mean z^2 {np.mean(z**2):.2f}")
+
+
+def sizes(prefix):
+    found = glob.glob(str(OUT / f"{prefix}_N*"))
+    return sorted({int(Path(f).name.split("_")[1][1:]) for f in found})
+
+
+def study_magnetisation():
+    st = thermal()
+    for n in sizes(PREFIX["full"]):
+        files = sorted(glob.glob(str(OUT / f"{PREFIX['full']}_N{n}_seed*.nc")))
+        data = [xr.open_dataset(f) for f in files]
+        m = np.array([np.mean(np.hypot(d["Mx_fine"], d["My_fine"])) for d in data]) / st.M0
+        fit = diffusion_fit([coarsen(d, 2) for d in data], FIT_WINDOW, 200, 0.0)
+        print(
+            f"MD(full) N = {n:.0e}: <|M|>/M0 over {len(files)} realisations {m.mean():.4f} "
+            f"(spread {m.std(ddof=1):.4f})"
+        )
+        e, per = fit["jbar_edges"].values, fit["ND_md_seed"].values
+        for i in range(per.shape[1]):
+            a, b = kappa_of_jbar(e[i : i + 2], st.M0)
+            y = per[:, i]
+            if 0.93 < a < 1.08 and np.all(np.isfinite(y)):
+                r = np.corrcoef(m, y)[0, 1]
+                print(
+                    f"  kappa {a:.3f}-{b:.3f}: N D {y.mean():7.3f}, correlation with <|M|> {r:+.2f}"
+                )
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else ""
     if what == "theory":
@@ -200,5 +278,9 @@ if __name__ == "__main__":
         study_md(int(float(sys.argv[2])), int(sys.argv[3]), int(sys.argv[4]), dyn)
     elif what == "fit":
         study_fit()
+    elif what == "propagated":
+        study_propagated()
+    elif what == "magnetisation":
+        study_magnetisation()
     else:
         sys.exit(__doc__.split("\n\n")[1])

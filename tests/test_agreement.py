@@ -108,6 +108,23 @@ def test_windowed_block_uses_the_windowed_columns():
     assert agreement(rows)[0]["outliers"] == []
 
 
+def test_propagated_block_uses_its_columns_and_only_where_present(tmp_path):
+    """The propagated theory's block reads ratio_propagated / z_propagated / ND_propagated; a
+    table written before those columns existed (docs/reference of 2026-11-26 had none) gives
+    the other two blocks and no empty third one, in the summary and in the README block."""
+    old = [_row("a", "bath", 1.0, 0.0)]
+    new = [dict(r, ND_propagated=0.5, ratio_propagated=2.0, z_propagated=-5.0) for r in old]
+    e = agreement(new, "propagated")[0]
+    assert e["median_dev"] == pytest.approx(1.0) and len(e["outliers"]) == 1
+    assert "propagated" not in summary_text(old) and "propagated" not in readme_block(old)
+    assert "MD against the propagated theory" in summary_text(new)
+    assert "propagated Landau" in summary_text(new)
+    assert "propagated (finite-N) theory" in readme_block(new)
+    path = tmp_path / "validation.csv"
+    write_validation_csv(new, path)
+    assert summary_text(read_rows(path)) == summary_text(new)
+
+
 def test_csv_round_trip_keeps_the_degrees_of_freedom(tmp_path):
     rows = [_row("a", "bath", 1.0 + 0.01 * i, 0.1 * i, n_seeds=40) for i in range(5)]
     path = tmp_path / "validation.csv"

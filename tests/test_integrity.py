@@ -339,7 +339,9 @@ PHYSICAL_RANGES = {
         **dict.fromkeys(["N", "n_seeds"], (1, None)),
         "flag": (0, 3),
     },
-    r"windowed/[^/]+\.nc": dict.fromkeys(["ND_spectrum", "jbar0", "kappa0"], NONNEG),
+    r"windowed/[^/]+\.nc": dict.fromkeys(
+        ["ND_spectrum", "ND_propagated", "jbar0", "kappa0"], NONNEG
+    ),
     r"spectrum/[^/]+\.nc": {
         f"NS{c}_{d}{s}": NONNEG  # spectra: means of squared moduli, and their errors
         for c in "xy"

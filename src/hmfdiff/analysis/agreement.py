@@ -17,12 +17,13 @@ For each case and dynamics, and pooled over all of them:
 * every bin with |z| > 3, by name, and their number against the number Student t expects;
 * the same statistics pooled over the bins beside the separatrix band (a usable bin whose
   neighbour in bin order, in its own case and dynamics, is flagged for the separatrix: two per
-  line) and over all the others.  Beside the band the MD smooths structure of the theory that
-  is narrower than the bin (at u = 0.2475 the Landau D of rotating orbits halves at
-  kappa = 1.015, where n Omega leaves the librating band; see the README), so these bins are
-  counted apart rather than hidden.
+  line) and over all the others.  Beside the band the particles diffuse, during the fit's lags,
+  across structure of the theory's D narrower than that distance, which the asymptotic theory
+  does not see and the propagated one does (`analysis.propagated`, the README), so these bins
+  are counted apart rather than hidden.
 
-The same for the finite-time (windowed) theory, with `ratio_windowed` and `z_windowed`.
+The same for the finite-time (windowed) theory, with `ratio_windowed` and `z_windowed`, and for
+the propagated theory, with `ratio_propagated` and `z_propagated` (where the table has them).
 `python -m hmfdiff.analysis.agreement results/validation.csv` prints the summary; with
 `--markdown` the two tables, with `--readme` the block the README includes (both tables and the
 |z| > 3 bins by name), with `--update README.md` that block written between the README's
@@ -62,6 +63,21 @@ COMPARISONS = {
         "ND_windowed",
         {"bath": "windowed bare (Landau)", "full": "windowed dressed (Lenard-Balescu)"},
     ),
+    "propagated": (
+        "ratio_propagated",
+        "z_propagated",
+        "ND_propagated",
+        {"bath": "propagated Landau", "full": "propagated Lenard-Balescu"},
+    ),
+}
+#: the summary's title of each comparison
+TITLES = {
+    "asymptotic": "MD against the asymptotic theory (ND_theory, bin-averaged):",
+    "windowed": "MD against the windowed theory (the finite-time <dJ^2> fitted over the MD's "
+    "own lags and window):",
+    "propagated": "MD against the propagated theory (the theory's D carried over the MD fit's "
+    "lags by its Fokker-Planck equation: the particles' own diffusion across structure in D "
+    "during the fit, which matters beside the separatrix):",
 }
 OUTLIER_Z = 3.0
 #: flag of `fits.VALIDATION_FLAGS` for a bin within the separatrix band
@@ -193,15 +209,9 @@ def summary_text(rows):
         "Expected values: Student t with n_seeds - 1 degrees of freedom (the MD error is the "
         "standard error over independent realisations)."
     )
-    for comparison, (ratio, z, _, _) in COMPARISONS.items():
+    for comparison, (ratio, z, _, _) in _present(rows):
         lines.append("")
-        title = (
-            "MD against the asymptotic theory (ND_theory, bin-averaged):"
-            if comparison == "asymptotic"
-            else "MD against the windowed theory (the finite-time <dJ^2> fitted over the MD's "
-            "own lags and window):"
-        )
-        lines.append(title)
+        lines.append(TITLES[comparison])
         lines.append(
             "case dynamics vs theory: bins  median|ratio-1| (expected)  mean ratio  "
             "fraction|z|<2 (expected)  mean z^2 (expected)"
@@ -224,6 +234,16 @@ def summary_text(rows):
             )
         lines += _outlier_lines(stats_, ratio, z, indent="  ")
     return "\n".join(lines)
+
+
+def _present(rows):
+    """The comparisons whose ratio column holds a number in some row (older tables lack the
+    later columns, or hold them empty once read back through a newer header)."""
+    return [
+        (c, v)
+        for c, v in COMPARISONS.items()
+        if c == "asymptotic" or any(np.isfinite(float(r.get(v[0], np.nan))) for r in rows)
+    ]
 
 
 def _pooled(entry):
@@ -281,8 +301,9 @@ def markdown_table(rows, comparison="asymptotic"):
 def readme_block(rows):
     """The README's block: per comparison its table and its bins with |z| > 3 by name."""
     out = []
-    for comparison, (ratio, z, _, _) in COMPARISONS.items():
-        what = "asymptotic" if comparison == "asymptotic" else "windowed (finite-time)"
+    what_of = {"windowed": "windowed (finite-time)", "propagated": "propagated (finite-N)"}
+    for comparison, (ratio, z, _, _) in _present(rows):
+        what = what_of.get(comparison, comparison)
         out += [f"MD against the {what} theory:", "", markdown_table(rows, comparison), ""]
         head, *bad = _outlier_lines(agreement(rows, comparison), ratio, z, indent="- ")
         out += [head, "", *bad] if bad else [head]

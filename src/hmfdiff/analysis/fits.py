@@ -350,6 +350,10 @@ VALIDATION_COLUMNS = [
     "ratio_windowed",
     "z_windowed",
     "ND_spectrum",
+    # the theory propagated over the fit's lags (analysis.propagated; absent when not computed)
+    "ND_propagated",
+    "ratio_propagated",
+    "z_propagated",
     # the realisations behind ND_md_err (the degrees of freedom of z: n_seeds - 1)
     "n_seeds",
 ]

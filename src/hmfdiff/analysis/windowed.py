@@ -18,19 +18,26 @@ import numpy as np
 from ..kinetic.dielectric import DielectricTensor
 from ..kinetic.spectrum import SpectrumTable, diffusion_from_spectrum, windowed_diffusion
 from .fits import kappa_of_jbar, tracked_density
+from .propagated import add_propagated
 
-__all__ = ["windowed_at_bins"]
+__all__ = ["windowed_at_bins", "spectrum_table"]
 
 
-def windowed_at_bins(fit, state, *, n_max=6, l_max=6, separatrix_band=0.01, n_sub=7):
+def spectrum_table(fit, state, *, n_max=6, l_max=6):
+    """The bath's spectrum tabulated for the fit's dynamics: bare for MD(bath), dressed (the
+    dielectric tensor with |l| <= l_max) for MD(full)."""
+    eps = DielectricTensor(state, l_max=l_max) if fit.attrs["dynamics"] == "full" else None
+    return SpectrumTable(state, n_max=n_max, eps=eps)
+
+
+def windowed_at_bins(fit, state, *, n_max=6, l_max=6, separatrix_band=0.01, n_sub=7, table=None):
     """(ND_windowed, ND_spectrum) per bin of a fit dataset (`fits.diffusion_fit`).
 
     The lags are the fit's lags inside its fit window; each bin is sampled at n_sub points
     uniform in J-bar and weighted by the density of tracked particles (`fits.tracked_density`).
-    Bins with a sample point within separatrix_band of kappa = 1 are NaN (as for ND_theory)."""
-    dyn = fit.attrs["dynamics"]
-    eps = DielectricTensor(state, l_max=l_max) if dyn == "full" else None
-    table = SpectrumTable(state, n_max=n_max, eps=eps)
+    Bins with a sample point within separatrix_band of kappa = 1 are NaN (as for ND_theory).
+    `table`: a `spectrum_table` of this fit and state, if one is at hand."""
+    table = table or spectrum_table(fit, state, n_max=n_max, l_max=l_max)
     M0 = float(fit["M0"])
     lag = fit["lag"].values
     w0, w1 = fit.attrs["fit_window"]
@@ -57,7 +64,8 @@ WINDOWED_COLUMNS = ("ND_windowed", "ratio_windowed", "z_windowed", "ND_spectrum"
 
 def add_windowed(rows, windowed):
     """Add ND_windowed, its ratio and z (with the MD error), and ND_spectrum to the validation
-    rows of one case and dynamics (in bin order), from a results/windowed dataset."""
+    rows of one case and dynamics (in bin order), from a results/windowed dataset; and
+    ND_propagated with its ratio and z where the dataset carries it (`analysis.propagated`)."""
     nw = windowed["ND_windowed"].values
     ns = windowed["ND_spectrum"].values
     if len(rows) != nw.size:
@@ -68,4 +76,6 @@ def add_windowed(rows, windowed):
             r["ratio_windowed"] = float(r["ND_md"] / w)
             r["z_windowed"] = float((r["ND_md"] - w) / r["ND_md_err"])
             r["ND_spectrum"] = float(s)
+    if "ND_propagated" in windowed:
+        add_propagated(rows, windowed["ND_propagated"].values)
     return rows

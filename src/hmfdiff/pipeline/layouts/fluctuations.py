@@ -161,8 +161,9 @@ def scaling_dataset(fits, sizes, *, dynamics, theory, other, equations, drawn):
     return ds
 
 
-def windowed_dataset(nd_windowed, nd_spectrum, fit, *, n_max, l_max):
-    """results/windowed/{case}_{dynamics}.nc from `analysis.windowed.windowed_at_bins`."""
+def windowed_dataset(nd_windowed, nd_spectrum, fit, *, n_max, l_max, nd_propagated=None):
+    """results/windowed/{case}_{dynamics}.nc from `analysis.windowed.windowed_at_bins` (and
+    `analysis.propagated.propagated_at_bins`, when given)."""
     b = ("bin",)
     th = "bare (Landau)" if fit.attrs["dynamics"] == "bath" else "dressed (Lenard-Balescu)"
     data = {
@@ -181,6 +182,17 @@ def windowed_dataset(nd_windowed, nd_spectrum, fit, *, n_max, l_max):
             valid=NONNEGATIVE,  # a sum over resonances of spectra >= 0
         ),
     }
+    if nd_propagated is not None:
+        data["ND_propagated"] = _var(
+            b,
+            nd_propagated,
+            D_UNITS,
+            f"N D of the theory, {th}, propagated over the MD fit's lags: half the slope over "
+            "the fit window of the <dJ^2>(t) of the bin's particles diffusing by the theory's "
+            "D(J) (analysis.propagated), the like-for-like prediction where D varies on the "
+            "scale the particles cover (beside the separatrix)",
+            valid=NONNEGATIVE,
+        )
     coords = {
         "jbar0": _var(b, fit["jbar0"].values, "action", "bin centre, J-bar_0", valid=NONNEGATIVE),
         "kappa0": _var(b, fit["kappa0"].values, "1", "kappa at the bin centre", valid=NONNEGATIVE),
