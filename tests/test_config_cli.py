@@ -300,8 +300,61 @@ BAD = [
 ]
 
 
-@pytest.mark.parametrize("text,extra,expected", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
-def test_bad_config_stops_in_one_line_and_writes_nothing(workdir, tmp_path, text, extra, expected):
+#: the bad configurations also run through `snakemake -n` in a copy of the workflow: one for
+#: each place a check lives (the file reader, the schema, the states, the MD runs, the figures)
+#: and every --config override (Snakemake's own parsing).  Every one is checked in process
+#: through the Snakefile's own two calls (`refusal_in_process`), a second apiece instead of a
+#: Snakemake start of several.
+THROUGH_SNAKEMAKE = {
+    "duplicate_case",
+    "unknown_key_typo",
+    "no_self_consistent_M0",
+    "dt_huge",
+    "figure_wrong_kind",
+} | {b[0] for b in BAD if b[2]}
+
+
+def refusal_in_process(path):
+    """What the Snakefile does with `--configfile path`: check_config_files on the file, then
+    prepare_config on Snakemake's reading of it; the line it prints, or None if accepted."""
+    from snakemake.common.configfile import load_configfile
+
+    from hmfdiff.pipeline.config import ConfigError, check_config_files, prepare_config
+
+    try:
+        check_config_files([str(path)])
+        prepare_config(
+            load_configfile(str(path)), str(ROOT / "workflow/schemas/config.schema.yaml")
+        )
+    except ConfigError as e:
+        return f"Config error: {e}"
+    return None
+
+
+FILE_ONLY = [b for b in BAD if not b[2]]
+
+
+@pytest.mark.parametrize(
+    "text,expected", [(b[1], b[3]) for b in FILE_ONLY], ids=[b[0] for b in FILE_ONLY]
+)
+def test_bad_config_is_refused_in_one_line(tmp_path, text, expected):
+    cfg = tmp_path / "bad.yaml"
+    cfg.write_text(text)
+    out = refusal_in_process(cfg)
+    assert out is not None and "\n" not in out, out
+    for s in expected:
+        assert s in out, (s, out)
+
+
+THROUGH = [b for b in BAD if b[0] in THROUGH_SNAKEMAKE]
+
+
+@pytest.mark.parametrize(
+    "text,extra,expected", [b[1:] for b in THROUGH], ids=[b[0] for b in THROUGH]
+)
+def test_bad_config_stops_snakemake_in_one_line_and_writes_nothing(
+    workdir, tmp_path, text, extra, expected
+):
     cfg = tmp_path / "bad.yaml"
     cfg.write_text(text)
     before = files_under(workdir)
@@ -313,6 +366,14 @@ def test_bad_config_stops_in_one_line_and_writes_nothing(workdir, tmp_path, text
     for s in expected:
         assert s in out, (s, out)
     assert files_under(workdir) == before
+    if not extra:  # the in-process check is the Snakefile's: the same line, word for word
+        assert refusal_in_process(cfg) == out
+
+
+def test_every_place_a_check_lives_goes_through_snakemake():
+    """The subset run through Snakemake holds all the overrides and exists in BAD."""
+    names = {b[0] for b in BAD}
+    assert THROUGH_SNAKEMAKE <= names and len(THROUGH) >= 7
 
 
 @pytest.mark.parametrize(
