@@ -63,7 +63,9 @@ def fig08_dj2(inputs, pdf, png):
 
 def _md_vs_theory(inputs, pdf, png, title):
     """Two rows: MD(bath) against Landau, MD(full) against Lenard-Balescu; one column per case
-    (inputs["theory"][j], inputs["fit_bath"][j], inputs["fit_full"][j])."""
+    (inputs["theory"][j], inputs["fit_bath"][j], inputs["fit_full"][j]); where the figure has
+    the windowed datasets (inputs["windowed_bath"][j], ...), the theory propagated over the
+    fit's lags at each usable bin (`analysis.propagated`) as black crosses."""
     ths = inputs["theory"]
     n = len(ths)
     if not len(inputs["fit_bath"]) == len(inputs["fit_full"]) == n:
@@ -76,6 +78,9 @@ def _md_vs_theory(inputs, pdf, png, title):
         ("fit_bath", "D_landau", "MD(bath)", "Landau", "tab:blue"),
         ("fit_full", "D_lenard_balescu", "MD(full)", "Lenard-Balescu", "tab:red"),
     )
+    for kind in ("windowed_bath", "windowed_full"):
+        if kind in inputs and len(inputs[kind]) != n:
+            raise ValueError(f"{title}: {len(inputs[kind])} {kind} inputs for {n} cases")
     for j, th in enumerate(ths):
         jsep = orbits.action_separatrix(float(th["M0"]), +1)
         for r, (kind, var, md_label, th_label, color) in enumerate(rows):
@@ -101,6 +106,19 @@ def _md_vs_theory(inputs, pdf, png, title):
                 label=rf"{md_label}, $N={sci(fit.attrs['N'])}$, "
                 f"{int(fit.attrs['n_seeds'])} seeds",
             )
+            win = inputs.get(kind.replace("fit", "windowed"))
+            if win is not None and "ND_propagated" in win[j]:
+                prop = win[j]["ND_propagated"].values
+                has = ok & np.isfinite(prop) & (prop > 0)
+                ax.plot(
+                    x[has],
+                    prop[has],
+                    "x",
+                    ms=4,
+                    mew=0.9,
+                    color="k",
+                    label=f"{th_label} propagated over the fit's lags",
+                )
             bad = ~ok & np.isfinite(y) & (y > 0)
             if bad.any():
                 ax.plot(

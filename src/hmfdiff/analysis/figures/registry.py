@@ -154,6 +154,8 @@ def _theory(keys=CASES):
 _ORBITS = (Inputs("orbits", "orbits/{case}.nc"),)
 _FIT_BATH = Inputs("fit_bath", "fits/{case}_bath.nc")
 _FIT_FULL = Inputs("fit_full", "fits/{case}_full.nc")
+_WINDOWED_BATH = Inputs("windowed_bath", "windowed/{case}_bath.nc")
+_WINDOWED_FULL = Inputs("windowed_full", "windowed/{case}_full.nc")
 _ORBIT_CAT = "1. Mean-field orbits (figures 1-3)"
 _THEORY_CAT = "2. Kinetic theory (figures 4-7)"
 _MD_CAT = "3. Molecular dynamics against theory (figures 8-10)"
@@ -248,18 +250,20 @@ _FIGURE_LIST = (
         "fig09_md_thermal",
         "fig9",
         fig09_md_thermal,
-        (_theory(), _FIT_BATH, _FIT_FULL),
+        (_theory(), _FIT_BATH, _FIT_FULL, _WINDOWED_BATH, _WINDOWED_FULL),
         "Fig. 9 (fig:hmfdiff): N D from MD against theory for thermal states (paper: (u, M0) = "
         "(-0.2, 0.816), (0.0, 0.622), (0.2475, 0.063)): MD(bath) vs Landau (top row), "
         "MD(full) vs Lenard-Balescu (bottom row); errors from the spread between seeds; grey "
-        "line: separatrix.",
+        "line: separatrix; black crosses: the theory propagated over the fit's lags (what the "
+        "fit measures at this N; beside the separatrix the particles diffuse across the "
+        "theory's structure during the fit).",
         _MD_CAT,
     ),
     Figure(
         "fig10_md_corehalo",
         "fig10",
         fig10_md_corehalo,
-        (_theory(), _FIT_BATH, _FIT_FULL),
+        (_theory(), _FIT_BATH, _FIT_FULL, _WINDOWED_BATH, _WINDOWED_FULL),
         "Fig. 10 (fig:hmfch): the same for the core-halo state ch2* (beta1 = 30, beta2 = 10, "
         "eta1 = 0.298, eta2 = 0.051, mu1 = -0.517, mu2 = 0.19, M0 = 0.8).",
         _MD_CAT,
