@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from hmfdiff.analysis.fits import VALIDATION_COLUMNS
+from hmfdiff.analysis.fits import write_validation_csv
 from hmfdiff.analysis.propagated import add_propagated, propagated_at_bins
 from hmfdiff.analysis.windowed import spectrum_table
 from hmfdiff.dynamics.runs import md_runs
@@ -69,11 +69,7 @@ def main(config_path, csv_path):
             r["ND_md"], r["ND_md_err"] = float(r["ND_md"]), float(r["ND_md_err"])
         add_propagated(sel, nd)
         print(f"{case} {dyn}: {json.dumps(spec)}; {np.isfinite(nd).sum()} bins", flush=True)
-    with open(csv_path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=VALIDATION_COLUMNS, extrasaction="ignore")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    write_validation_csv(rows, csv_path)  # the pipeline's writer: same columns, atomic
 
 
 if __name__ == "__main__":
