@@ -83,6 +83,47 @@ def numpy_actions(theta, p):
 
 
 # ------------------------------------------------------------------ measurements
+def accumulation_cost(P, n_track=120_000, n_samples=160, max_lag=100, origin_every=5, n_bins=30):
+    """Seconds per (active origin, tracked particle) of feeding the <dJ^2> accumulator, the
+    present and the previous one alternately, over a run of n_samples samples of n_track
+    particles (as MD(full)'s 1e5 tracked + 2e4 test particles) whose J-bar random-walk by
+    1e-3 per sample (as in MD(full) at N = 5e5: N D ~ 0.1, sampled every 2 time units): every
+    add timed, origins included; on one thread, as the MD jobs run (md.threads = 1).  Returns
+    (present, previous, whether the two sums agree to 1e-10)."""
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    J, Jb = elementary.frame_actions(P.S, P.C, P.p, M0, 0.01)
+    n = min(n_track, J.size)
+    J, Jb = J[:n], Jb[:n]
+    lib = Jb != J
+    rng = np.random.default_rng(5)
+    edges = np.linspace(0.0, 2.0, n_bins + 1)
+    args = (n, edges, n_samples, max_lag, origin_every, 4)
+    small = (64, edges, 12, 6, 3, 2)  # compile both on small arrays first
+    for cls in (
+        accumulator.DisplacementAccumulator,
+        previous_kernels.PreviousDisplacementAccumulator,
+    ):
+        a = cls(*small)
+        for s in range(12):
+            a.add(s, J[:64].copy(), Jb[:64].copy())
+    present = accumulator.DisplacementAccumulator(*args)
+    previous = previous_kernels.PreviousDisplacementAccumulator(*args)
+    t = {present: 0.0, previous: 0.0}
+    jb = Jb.copy()
+    for s in range(n_samples):
+        jb = np.abs(jb + rng.normal(0.0, 1e-3, n))
+        j = np.where(lib, 2.0 * jb, jb)
+        for a in (present, previous) if s % 2 else (previous, present):
+            t0 = time.perf_counter()
+            a.add(s, j, jb)
+            t[a] += time.perf_counter() - t0
+    pairs = present.acc[3].sum()
+    equal = bool(np.allclose(present.acc, previous.acc, rtol=1e-10, atol=0.0))
+    numba.set_num_threads(threads)
+    return t[present] / pairs, t[previous] / pairs, equal
+
+
 def measure(n, threads, n_test_bath):
     numba.set_num_threads(threads)
     state = equilibrium.ThermalState(M0=M0)
@@ -139,12 +180,7 @@ def measure(n, threads, n_test_bath):
     t_bath = best_of(lambda: integrator.advance_system(B, T, dynamics="bath", **steps))
     elementary.frame_actions(P.S[:100], P.C[:100], P.p[:100], M0, 0.1)
     t_act = best_of(lambda: elementary.frame_actions(P.S, P.C, P.p, M0, 0.01), reps=5)
-    # <dJ^2> accumulation: cost per (active origin, particle) at one sampling time
-    J, Jb = elementary.frame_actions(P.S, P.C, P.p, M0, 0.01)
-    acc = accumulator.DisplacementAccumulator(n, np.linspace(0.0, 2.0, 41), 200, 100, 5, 4)
-    for s in range(101):
-        acc.add(s, J, Jb)  # fills the ring buffer: 21 active origins from s = 100 on
-    t_acc = best_of(lambda: acc.add(101, J, Jb), reps=3) / (21 * n)
+    t_acc, t_acc_prev, acc_equal = accumulation_cost(P)
 
     n_np = 20
     thn, pn = th.copy(), p.copy()
@@ -166,6 +202,9 @@ def measure(n, threads, n_test_bath):
         "actions_seconds_per_5e5": t_act * 5e5 / n,
         "numpy_actions_seconds_per_5e5": t_np_act * 5e5 / n,
         "accumulate_ns_per_origin_particle": t_acc * 1e9,
+        "previous_accumulate_ns_per_origin_particle": t_acc_prev * 1e9,
+        "accumulate_speedup_vs_previous": t_acc_prev / t_acc,
+        "accumulate_sums_equal_previous": acc_equal,
         "load_average_1min": os.getloadavg()[0],
         "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY", ""),
         "threading_layer": numba.threading_layer(),
@@ -325,7 +364,10 @@ def main(argv=None):
     )
     print(
         f"<dJ^2> accumulation: {res['accumulate_ns_per_origin_particle']:.3g} ns per "
-        "(active origin, particle) and sampling time"
+        f"(active origin, particle) and sampling time on 1 thread, previous "
+        f"{res['previous_accumulate_ns_per_origin_particle']:.3g} "
+        f"(present x{res['accumulate_speedup_vs_previous']:.2f}; the sums agree: "
+        f"{res['accumulate_sums_equal_previous']})"
     )
     print(
         f"(1-min load average of the machine at the end: {res['load_average_1min']:.2f}; "

@@ -2,7 +2,10 @@
 benchmarks/bench_md.py and bench_ensemble.py measure the present kernels against in the same
 run (issue 23 part 2): the angle stored and its half-angle sincos evaluated every step (about
 36 floating-point operations and 32 bytes per particle and step), where the present kernels
-rotate (sin theta, cos theta) by the drift angle (`hmfdiff.dynamics.integrator`).
+rotate (sin theta, cos theta) by the drift angle (`hmfdiff.dynamics.integrator`); and the
+<dJ^2> accumulator as it ran until 2026-11-27 (`PreviousDisplacementAccumulator`: every
+(origin, particle) pair added into its bin's cell, in particle index order), where the present
+one keeps each origin's particles sorted by bin and in the order of their J-bar.
 """
 
 from __future__ import annotations
@@ -10,7 +13,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from hmfdiff.dynamics import elementary
+from hmfdiff.dynamics import accumulator, elementary
 
 _CHUNK = elementary._CHUNK
 
@@ -88,3 +91,63 @@ def ensemble_steps(theta, p, S, C, M, n_steps, dt):
             p[r, i] = p[r, i] + h * (fy * C[r, i] - fx * S[r, i])
         M[r, 0] = fx
         M[r, 1] = fy
+
+
+@numba.njit(parallel=True)
+def _accumulate_kernel(J, Jbar, slots, lags, blocks, J0, lib0, bin0, acc):
+    """Per active origin and particle with bin0 >= 0: (J - J0)^2, (Jbar - Jbar0)^2, J - J0 and
+    1 added into acc[:, bin, lag, block]."""
+    n = J.size
+    for a in numba.prange(slots.size):
+        sl = slots[a]
+        L = lags[a]
+        B = blocks[a]
+        for i in range(n):
+            b = bin0[sl, i]
+            if b >= 0:
+                j0 = J0[sl, i]
+                jb0 = 0.5 * j0 if lib0[sl, i] else j0
+                d = J[i] - j0
+                db = Jbar[i] - jb0
+                acc[0, b, L, B] += d * d
+                acc[1, b, L, B] += db * db
+                acc[2, b, L, B] += d
+                acc[3, b, L, B] += 1.0
+
+
+class PreviousDisplacementAccumulator(accumulator.DisplacementAccumulator):
+    """The accumulator until 2026-11-27: J(t0), an int16 bin and a librating flag per particle
+    and slot, in the particles' own order."""
+
+    def __init__(self, *args):
+        super().__init__(*args)
+        shape = (self.n_slots, self.n_track)
+        self.J0_all = np.zeros(shape)
+        self.lib0_all = np.zeros(shape, dtype=np.bool_)
+        self.bin0 = np.full(shape, -1, dtype=np.int16)
+
+    def add(self, s, J, Jbar):
+        if s % self.origin_every == 0 and s // self.origin_every < self.n_origins:
+            sl = (s // self.origin_every) % self.n_slots
+            b = np.searchsorted(self.edges, Jbar, side="right") - 1
+            b[(b >= self.n_bins) | (Jbar < self.edges[0])] = -1
+            b[Jbar == self.edges[-1]] = self.n_bins - 1
+            self.J0_all[sl] = J
+            self.lib0_all[sl] = Jbar != J
+            self.bin0[sl] = b
+            inside = b >= 0
+            self.seen[np.flatnonzero(inside), b[inside]] = 1
+        o_last = min(s // self.origin_every, self.n_origins - 1)
+        o_first = max(0, -(-(s - self.max_lag) // self.origin_every))
+        if o_last < o_first:
+            return
+        orig = np.arange(o_first, o_last + 1)
+        lags = s - orig * self.origin_every
+        keep = (lags >= 0) & (lags <= self.max_lag)
+        orig, lags = orig[keep], lags[keep]
+        if orig.size == 0:
+            return
+        blocks = np.array([self.block_of(o) for o in orig], dtype=np.int64)
+        _accumulate_kernel(J, Jbar, (orig % self.n_slots).astype(np.int64),
+                           lags.astype(np.int64), blocks, self.J0_all, self.lib0_all, self.bin0,
+                           self.acc)  # fmt: skip

@@ -219,6 +219,43 @@ def test_accumulator_deterministic_drift():
     assert acc.acc[3][..., 0].sum() > 0 and np.all(acc.acc[3].sum(axis=(0, 1)) > 0)
 
 
+def test_accumulator_bins_edges_and_shuffled_particles():
+    """Bins as numpy's searchsorted gives them (edges[b] <= J-bar < edges[b + 1], the last edge
+    in the last bin, outside or NaN in none), per origin; the sums, counts and particles per
+    bin against brute force, for particles in no particular order whose bins change between
+    origins; and the sums do not depend on the order the particles are passed in."""
+    rng = np.random.default_rng(11)
+    n, n_samp, max_lag, oe = 400, 30, 8, 4
+    edges = np.array([0.2, 0.5, 0.6, 1.1, 1.7])
+    jb = rng.uniform(0.0, 2.0, (n_samp, n))
+    jb[:, :40] = rng.choice(np.r_[edges, 0.1, 1.8], (n_samp, 40))  # on the edges and beyond
+    jb[:, 40:45] = np.nan
+    lib = rng.random(n) < 0.5
+    J = np.where(lib, 2.0 * jb, jb)
+    perm = rng.permutation(n)
+    accs = [accumulator.DisplacementAccumulator(n, edges, n_samp, max_lag, oe, 2) for _ in "ab"]
+    for s in range(n_samp):
+        accs[0].add(s, J[s], jb[s])
+        accs[1].add(s, J[s, perm], jb[s, perm])
+    n_orig = (n_samp - 1 - max_lag) // oe + 1
+    exp = np.zeros((4, 4, max_lag + 1))
+    seen = np.zeros((n, 4), dtype=bool)
+    for o in range(n_orig):
+        t0 = o * oe
+        b = np.searchsorted(edges, jb[t0], side="right") - 1
+        b[jb[t0] == edges[-1]] = 3
+        for i in np.flatnonzero((b >= 0) & (b < 4)):
+            seen[i, b[i]] = True
+            d, db = J[t0 : t0 + max_lag + 1, i] - J[t0, i], jb[t0 : t0 + max_lag + 1, i] - jb[t0, i]
+            exp[:, b[i]] += [d**2, db**2, d, np.ones_like(d)]
+    assert exp[3, :, 0].sum() < n * n_orig  # some particles fell outside the bins
+    for acc in accs:
+        got = acc.acc.sum(-1)
+        np.testing.assert_allclose(got[:3], exp[:3], rtol=1e-12, atol=1e-15)
+        np.testing.assert_array_equal(got[3], exp[3])
+        np.testing.assert_array_equal(acc.n_particles_in_bin, seen.sum(0))
+
+
 def test_accumulator_random_walk_librating():
     """Random walk of J-bar with step sigma on librating orbits (J = 2 J-bar): the mean squared
     displacements are sigma^2 L for J-bar and 4 sigma^2 L for J."""
