@@ -244,6 +244,27 @@ CLAIMS = [
         "<|M|>(tau*) - M0 = -0.00593 +- 0.00086",
         "-0.0059 +- 0.0009",
     ),
+    # MD(full) of u = -0.2 with seeds 20-39 (studies/independent_seeds.py, 2026-11-27)
+    (
+        "independent_seeds_u-0.2_full.txt",
+        "1.164   0.05351 |   0.04525 0.846  -4.0 |    0.0516 0.964  -0.6 |",
+        "give 0.964 (z = -0.6) and 1.013 (z = +0.3)",
+    ),
+    (
+        "independent_seeds_u-0.2_full.txt",
+        "1.413  0.002208 |  0.001849 0.837  -3.5 |  0.002236 1.013  +0.3 |",
+        "give 0.964 (z = -0.6) and 1.013 (z = +0.3)",
+    ),
+    (
+        "independent_seeds_u-0.2_full.txt",
+        "new seeds: 28 bins, mean z -0.12, mean z^2 0.67, |z| < 2: 100%, |z| > 3: 0",
+        "28 bins mean z^2 0.67, all within |z| < 2 and mean z -0.12",
+    ),
+    (
+        "independent_seeds_u-0.2_full.txt",
+        "reference: 28 bins, mean z -0.33, mean z^2 2.01, |z| < 2: 86%, |z| > 3: 2",
+        "(reference seeds: 2.01, 86 %, -0.33)",
+    ),
 ]
 
 
