@@ -16,6 +16,10 @@ on the MD's own J-bar bins):
                                                  # the propagated theory (`analysis.propagated`)
     python studies/separatrix_bins.py magnetisation  # MD(full): N D per realisation against
                                                  # the realisation's time-averaged |M|
+    python studies/separatrix_bins.py blocks     # MD(full): N D per block of origins against
+                                                 # |M| over that block's time window
+    python studies/separatrix_bins.py spectrum [MD_FILES...]  # MD(full)'s magnetisation
+                                                 # spectrum against the dressed theory, by band
 
 `theory`: N D at the outlier bins with n_max = l_max = 6, 8, 10; on 400 and 1600 kappa nodes;
 for a thermal state whose M0 is 1.5 % and 3 % off (MD(full)'s <|M|> differs from M0 by up to
@@ -34,6 +38,13 @@ propagated over the fit's lags, D from the spectrum (n_max = l_max = 6), interpo
 |kappa - 1| < 0.001 (and, for comparison, 0.003; and the theory grid on 1600 nodes): per bin,
 and the mean z and mean z^2 of each.  `magnetisation`: the correlation over MD(full)'s
 realisations between N D in pairs of fine bins and the realisation's time-averaged |M| / M0.
+`blocks`: the same within realisations: for each block of origins (10 per realisation), the
+half slope of <dJ-bar^2>(lag) over the fit window pooled over the fine bins of a kappa range,
+against the mean and the standard deviation of |M| / M0 over the time the block's lags cover.
+`spectrum`: the Welch N S_x, N S_y of MD(full)'s magnetisation (`analysis.md_spectrum`, as rule
+spectrum; u = 0.2475 is not among figure 14's cases) against the dressed theory smoothed by
+the Welch window, summed over frequency bands, for the study's MD(full) runs and any further
+md files given (for example the production runs' results/md/thermal_u0.2475/full/*/*.nc).
 """
 
 from __future__ import annotations
@@ -267,6 +278,75 @@ def study_magnetisation():
                 )
 
 
+def study_blocks():
+    for n in sizes(PREFIX["full"]):
+        files = sorted(glob.glob(str(OUT / f"{PREFIX['full']}_N{n}_seed*.nc")))
+        print(f"MD(full) N = {n:.0e}, {len(files)} realisations x 10 blocks of origins:")
+        for k_lo, k_hi in ((0.91, 0.99), (1.01, 1.10), (0.91, 1.10), (0.5, 0.8), (1.3, 1.8)):
+            rows = []
+            for f in files:
+                d = xr.open_dataset(f)
+                M0 = float(d.attrs["M0_actions"])
+                e = d["jbar_edges"].values
+                kc = kappa_of_jbar(0.5 * (e[1:] + e[:-1]), M0)
+                sel = (kc > k_lo) & (kc < k_hi)
+                lag = d["lag"].values
+                w = (lag >= FIT_WINDOW[0]) & (lag <= FIT_WINDOW[1])
+                msd = d["sum_dJbar2_block"].values[sel][:, w].sum(0) / d["count_block"].values[sel][
+                    :, w
+                ].sum(0)  # (lag, block)
+                nd = 0.5 * n * np.polyfit(lag[w], msd, 1)[0]
+                m = np.hypot(d["Mx_fine"].values, d["My_fine"].values) / M0
+                tf = d["time_fine"].values
+                per = d["n_origins_in_block"].values
+                first = np.r_[0, np.cumsum(per)[:-1]]
+                for b in range(per.size):
+                    t0 = d.attrs["origin_every"] * first[b]
+                    t1 = d.attrs["origin_every"] * (first[b] + per[b] - 1) + FIT_WINDOW[1]
+                    mb = m[(tf >= t0) & (tf <= t1)]
+                    rows.append((nd[b], mb.mean(), mb.std()))
+            r = np.array(rows)
+            print(
+                f"  kappa {k_lo}-{k_hi}: N D(J-bar) {r[:, 0].mean():.3f} (blocks' sd "
+                f"{r[:, 0].std():.3f}); correlation with the block's <|M|>/M0 "
+                f"{np.corrcoef(r[:, 0], r[:, 1])[0, 1]:+.2f} (its sd {r[:, 1].std():.3f}), "
+                f"with its sd of |M|/M0 {np.corrcoef(r[:, 0], r[:, 2])[0, 1]:+.2f}"
+            )
+
+
+def study_spectrum(extra):
+    from hmfdiff.analysis.md_spectrum import measured_spectra, smoothed
+    from hmfdiff.kinetic.dielectric import DielectricTensor
+
+    st = thermal()
+    dressed = SpectrumTable(st, n_max=8, eps=DielectricTensor(st, l_max=6))
+    bare = SpectrumTable(st, n_max=8)
+    sets = {
+        f"study N = {n:.0e}": sorted(glob.glob(str(OUT / f"{PREFIX['full']}_N{n}_seed*.nc")))
+        for n in sizes(PREFIX["full"])
+    }
+    if extra:
+        sets["files given"] = sorted(extra)
+    bands = ((0.03, 0.1), (0.1, 0.2), (0.2, 0.4), (0.1, 0.4), (0.4, 0.8), (0.8, 1.5), (1.5, 3.0))
+    for name, files in sets.items():
+        om, meas, n_seg, seg, dt, N = measured_spectra([xr.open_dataset(f) for f in files])
+        print(
+            f"{name}: {len(files)} realisations, N = {N:.0e}, {n_seg} Welch segments "
+            f"of {seg * dt:g}"
+        )
+        for c, comp in (("x", "cc"), ("y", "ss")):
+            th = smoothed(lambda w, k=comp: dressed(w, k), om, seg, dt)
+            thb = smoothed(lambda w, k=comp: bare(w, k), om, seg, dt)
+            S, E = meas[c]
+            for lo, hi in bands:
+                m = (om >= lo) & (om < hi)
+                r, e = S[m].sum() / th[m].sum(), np.sqrt(np.sum(E[m] ** 2)) / th[m].sum()
+                print(
+                    f"  N S_{c}, omega {lo}-{hi}: MD / dressed {r:8.3f} +- {e:.3f}  "
+                    f"(dressed / bare {th[m].sum() / thb[m].sum():.2f})"
+                )
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else ""
     if what == "theory":
@@ -282,5 +362,9 @@ if __name__ == "__main__":
         study_propagated()
     elif what == "magnetisation":
         study_magnetisation()
+    elif what == "blocks":
+        study_blocks()
+    elif what == "spectrum":
+        study_spectrum(sys.argv[2:])
     else:
         sys.exit(__doc__.split("\n\n")[1])

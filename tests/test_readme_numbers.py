@@ -265,6 +265,43 @@ CLAIMS = [
         "reference: 28 bins, mean z -0.33, mean z^2 2.01, |z| < 2: 86%, |z| > 3: 2",
         "(reference seeds: 2.01, 86 %, -0.33)",
     ),
+    # the u = 0.2475 MD(full) residual (studies/separatrix_bins.py spectrum, blocks; 2026-11-27)
+    (
+        "separatrix_spectrum_u0.2475.txt",
+        "N S_x, omega 0.1-0.4: MD / dressed    0.912 +- 0.062  (dressed / bare 15.50)",
+        "(N S_x 0.912 +- 0.062, N S_y 0.957 +- 0.035 of it)",
+    ),
+    (
+        "separatrix_spectrum_u0.2475.txt",
+        "N S_y, omega 0.1-0.4: MD / dressed    0.957 +- 0.035",
+        "(N S_x 0.912 +- 0.062, N S_y 0.957 +- 0.035 of it)",
+    ),
+    (
+        "separatrix_spectrum_u0.2475.txt",
+        "N S_x, omega 0.1-0.4: MD / dressed    1.023 +- 0.070",
+        "at 4e6 (1.023 +- 0.070, 1.068 +- 0.041)",
+    ),
+    (
+        "separatrix_spectrum_u0.2475.txt",
+        "N S_y, omega 0.1-0.4: MD / dressed    1.068 +- 0.041",
+        "at 4e6 (1.023 +- 0.070, 1.068 +- 0.041)",
+    ),
+    (
+        "separatrix_spectrum_u0.2475.txt",
+        "N S_x, omega 0.1-0.4: MD / dressed    0.982 +- 0.064",
+        "give 0.982 +- 0.064 and 0.960 +- 0.033",
+    ),
+    (
+        "separatrix_spectrum_u0.2475.txt",
+        "N S_y, omega 0.1-0.4: MD / dressed    0.960 +- 0.033",
+        "give 0.982 +- 0.064 and 0.960 +- 0.033",
+    ),
+    (
+        "separatrix_blocks_u0.2475.txt",
+        "kappa 0.91-1.1: N D(J-bar) 2.310 (blocks' sd 0.756); correlation with the block's "
+        "<|M|>/M0 -0.01",
+        "|r| <= 0.03 over 200 blocks",
+    ),
 ]
 
 
