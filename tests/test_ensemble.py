@@ -10,14 +10,26 @@ from hmfdiff.dynamics import ensemble, integrator, sampling
 from hmfdiff.meanfield.equilibrium import ThermalState
 
 
-def test_one_realisation_follows_the_single_system_kernel():
-    """Same initial conditions, 100 steps: the ensemble kernel and `integrator.leapfrog` do the
+@pytest.mark.parametrize(
+    "M0, dt, n_steps",
+    [
+        (0.7, 0.05, 100),
+        # hot (T ~ 0.5) at a long step: the chunks move between the sincos paths (drift angles
+        # up to ~0.5), so the bounds on |p| must be kept alike too
+        (0.2, 0.15, 300),
+    ],
+)
+def test_one_realisation_follows_the_single_system_kernel(M0, dt, n_steps):
+    """Same initial conditions (the same p, sin and cos of the angles and magnetisation): the
+    ensemble kernel and the single-system one (`Particles.open_steps`, `close_steps`) do the
     same arithmetic in the same order (chunks of 4096: N = 5000 spans two chunks)."""
-    state = ThermalState(M0=0.7)
+    state = ThermalState(M0=M0)
     ens = ensemble._initial_ensemble(state, 5000, 3, seed=11)
     single = integrator.Particles(ens.theta[1].copy(), ens.p[1].copy())
-    integrator.leapfrog(single, 100, 0.05, "self")
-    ens.advance(100, 0.05)
+    single.S, single.C = ens.S[1].copy(), ens.C[1].copy()
+    out = single.open_steps(n_steps, dt=dt, field="self", fx=ens.M[1, 0], fy=ens.M[1, 1])
+    single.close_steps(dt=dt, fx=out[-1, 0], fy=out[-1, 1])
+    ens.advance(n_steps, dt)
     assert np.max(np.abs(ens.theta[1] - single.theta)) <= 1e-13
     assert np.max(np.abs(ens.p[1] - single.p)) <= 1e-13
     m = single.moments()

@@ -98,6 +98,10 @@ _CH1, _CH2, _CH3, _CH4, _CH5, _CH6, _CH7 = _CH
 DRIFT_MAX = 0.5
 _D1, _D2, _D3, _D4, _D5, _D6 = ((-1) ** k / math.factorial(2 * k + 1) for k in range(1, 7))
 _E2, _E3, _E4, _E5, _E6, _E7 = ((-1) ** k / math.factorial(2 * k) for k in range(2, 8))
+# the same series cut shorter, sin d through d^11 and cos d through d^10, for |d| <= DRIFT_SHORT:
+# the first omitted terms, d^13/13! and d^12/12!, are below 1.4e-19 and 8.6e-18 there.  The drift
+# angles of the MD at dt = 0.05 (|p| < 4) lie there: about 20 % less work per particle and step.
+DRIFT_SHORT = 0.2
 
 _CHUNK = 4096  # particles per chunk of the deterministic reductions
 
@@ -151,6 +155,16 @@ def _sincos_drift(d):
     return s, c
 
 
+@njit(fastmath={"contract"})
+def _sincos_drift_short(d):
+    """(sin d, cos d) for |d| <= DRIFT_SHORT: the Taylor series of `_sincos_drift` cut two
+    terms shorter in cos, one in sin; absolute error < 2e-16."""
+    z = d * d
+    s = d + d * z * (_D1 + z * (_D2 + z * (_D3 + z * (_D4 + z * _D5))))
+    c = 1.0 - 0.5 * z + z * z * (_E2 + z * (_E3 + z * (_E4 + z * _E5)))
+    return s, c
+
+
 @njit(fastmath=_FM)
 def _sincos_drift_kernel(x, s_out, c_out):
     for i in range(x.size):
@@ -159,10 +173,18 @@ def _sincos_drift_kernel(x, s_out, c_out):
         c_out[i] = c
 
 
-def sincos_drift_array(x):
+@njit(fastmath=_FM)
+def _sincos_drift_short_kernel(x, s_out, c_out):
+    for i in range(x.size):
+        s, c = _sincos_drift_short(x[i])
+        s_out[i] = s
+        c_out[i] = c
+
+
+def sincos_drift_array(x, short=False):
     """(sin x, cos x) by the Taylor polynomials of the MD's drift rotation, for |x| <= DRIFT_MAX
-    (exposed for tests)."""
-    return _sincos_with(_sincos_drift_kernel, x)
+    (short: the shorter ones, for |x| <= DRIFT_SHORT) (exposed for tests)."""
+    return _sincos_with(_sincos_drift_short_kernel if short else _sincos_drift_kernel, x)
 
 
 @njit(fastmath=_FM)

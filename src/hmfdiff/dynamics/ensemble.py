@@ -34,7 +34,7 @@ from numba import njit, prange
 
 from . import sampling
 from .elementary import _CHUNK, _FM, angles, frame_actions, sincos_wrapped_array
-from .integrator import _BOUND_REFRESH, _chunk_p_bound, _chunk_step
+from .integrator import _BOUND_REFRESH, _chunk_advance
 
 __all__ = ["ACTION_MEASURES", "Ensemble", "measurement_times", "run_ensemble"]
 
@@ -58,20 +58,20 @@ def _ensemble_steps(p, S, C, M, n_steps, dt):
         fy = M[r, 1]
         kick = h
         bound = np.zeros(n_chunks)
+        path = np.zeros(n_chunks, dtype=np.int64)
         for j in range(n_steps):
             tc = 0.0
             ts = 0.0
+            periodic = j % _BOUND_REFRESH == 0
             for ch in range(n_chunks):
                 lo = ch * _CHUNK
                 hi = min(lo + _CHUNK, N)
-                if j % _BOUND_REFRESH == 0:
-                    bound[ch] = _chunk_p_bound(p[r, lo:hi])
-                a, b = _chunk_step(
-                    p[r, lo:hi], S[r, lo:hi], C[r, lo:hi], kick, dt, fx, fy, bound[ch]
-                )
+                a, b, bound[ch], path[ch] = _chunk_advance(
+                    p[r, lo:hi], S[r, lo:hi], C[r, lo:hi], kick, dt, fx, fy, bound[ch], path[ch],
+                    periodic,
+                )  # fmt: skip
                 tc += a
                 ts += b
-                bound[ch] += abs(kick) * (abs(fx) + abs(fy))
             fx = tc / N
             fy = ts / N
             kick = dt

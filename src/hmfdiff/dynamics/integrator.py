@@ -4,16 +4,18 @@ hmfmdfull): `Particles` (momenta and the sin, cos of the angles), the field that
 
 Consecutive half kicks are fused, so one pass over the particles per step updates p and the
 angle and accumulates sum cos, sum sin of the new angles; a last half kick re-synchronises p
-with the angle at each sampling time.  A particle carries (S, C) = (sin theta, cos theta), not
-theta: the drift theta += d, d = dt p, is the rotation of (S, C) by d, with sin d and cos d from
-short Taylor polynomials (|d| <= `elementary.DRIFT_MAX`; a chunk whose momenta may exceed that,
-by a bound on |p| kept per chunk, takes the general half-angle sincos of the wrapped d).  That
-is about 20 floating-point operations and 24 bytes per particle and step, against 36 and 32
-when theta was stored and its sincos evaluated each step.  The closing half kick also divides
-(S, C) by its norm, so that rounding cannot accumulate on it.  The angles, where needed
-(`Particles.theta`), are atan2(S, C).  Reductions are deterministic: particles are cut into a
-fixed number of chunks (independent of the thread count) whose partial sums are combined in
-order.
+with the angle at each sampling time. A particle carries (S, C) = (sin theta, cos theta), not
+theta: the drift theta += d, d = dt p, is the rotation of (S, C) by d, with sin d and cos d
+from short Taylor polynomials (shorter still for |d| <= `elementary.DRIFT_SHORT`, which holds
+at dt = 0.05 for |p| < 4; up to |d| <= `elementary.DRIFT_MAX` longer ones; a chunk whose
+momenta may exceed that, by a bound on |p| kept per chunk, takes the general half-angle sincos
+of the wrapped d).  That is about 20 floating-point operations (16 on the short path) and
+24 bytes per particle and step, against 36 and 32 when theta was stored and its sincos
+evaluated each step.  The closing half kick also divides (S, C) by its norm, so that rounding
+cannot accumulate on it.  The
+angles, where needed (`Particles.theta`), are atan2(S, C).  Reductions are deterministic:
+particles are cut into a fixed number of chunks (independent of the thread count) whose partial
+sums are combined in order.
 """
 
 from __future__ import annotations
@@ -31,7 +33,9 @@ from .elementary import (
     _INV_TWO_PI,
     _TWO_PI,
     DRIFT_MAX,
+    DRIFT_SHORT,
     _sincos_drift,
+    _sincos_drift_short,
     _sincos_wrapped,
     angles,
     sincos_wrapped_array,
@@ -56,7 +60,8 @@ _FIELD_CODE = {Field.STATIC: 0, Field.SELF: 1, Field.EXTERNAL: 2}
 
 
 # steps between exact refreshes of the per-chunk bound on |p| (in between, each step adds its
-# largest possible kick |h| (|Fx| + |Fy|) to it)
+# largest possible kick |h| (|Fx| + |Fy|) to it, and the bound is refreshed early whenever that
+# growth alone would move the chunk to a costlier sincos: `_refreshed_bound`)
 _BOUND_REFRESH = 32
 
 
@@ -72,6 +77,42 @@ def _chunk_p_bound(p):
     return q8**0.125
 
 
+@njit
+def _drift_path(drift_bound):
+    """The sincos path of `_chunk_step` for a bound on |d|: 0 short Taylor, 1 long Taylor,
+    2 general (also for a NaN bound)."""
+    if drift_bound <= DRIFT_SHORT:
+        return 0
+    if drift_bound <= DRIFT_MAX:
+        return 1
+    return 2
+
+
+@njit
+def _refreshed_bound(p, bound, path, periodic, grow, dt):
+    """(bound on |p|, its path) of a chunk before a step whose kick is at most `grow`: the
+    exact bound `_chunk_p_bound` when `periodic`, or when the bound grown by kicks since the
+    last refresh would pick a costlier path than `path` (the one of that refresh); else the
+    bound and path unchanged.  In a hot state (|p| up to 4, dt = 0.1) the grown bound would
+    otherwise leave the Taylor paths within a few steps of each refresh."""
+    if periodic or _drift_path(abs(dt) * (bound + grow)) > path:
+        bound = _chunk_p_bound(p)
+        path = _drift_path(abs(dt) * (bound + grow))
+    return bound, path
+
+
+@njit
+def _chunk_advance(p, S, C, h, dt, Fx, Fy, bound, path, periodic):
+    """One step of a chunk with its bound on |p| kept: refreshed if due (`_refreshed_bound`),
+    used to pick the sincos path, then grown by the step's largest kick.  Returns (sum cos,
+    sum sin of the new angles, bound, path).  The one place both kernels (`_kick_drift`, the
+    ensemble's) keep the bound."""
+    grow = abs(h) * (abs(Fx) + abs(Fy))
+    bound, path = _refreshed_bound(p, bound, path, periodic, grow, dt)
+    a, b = _chunk_step(p, S, C, h, dt, Fx, Fy, bound)
+    return a, b, bound + grow, path
+
+
 @njit(fastmath=_FM)
 def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
     """One fused leapfrog step of the particles (a chunk, passed as array views); returns sum
@@ -79,14 +120,26 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
 
     p += h (-Fx sin theta + Fy cos theta); theta += dt p, i.e. (S, C) rotated by d = dt p.
     p_bound >= max |p| on entry (inf when unknown): with the kick's bound |h| (|Fx| + |Fy|) it
-    bounds |d|, and picks the Taylor sincos of d (|d| <= DRIFT_MAX) or else the general one of
-    d wrapped to [-pi, pi) (a NaN bound picks the general one)."""
+    bounds |d|, and picks the short Taylor sincos of d (|d| <= DRIFT_SHORT), the long one
+    (|d| <= DRIFT_MAX) or else the general one of d wrapped to [-pi, pi) (a NaN bound picks the
+    general one)."""
     sc = 0.0
     ss = 0.0
     drift_bound = abs(dt) * (p_bound + abs(h) * (abs(Fx) + abs(Fy)))
     # range(size), not range(lo, hi): numba's negative-index handling blocks vectorisation;
-    # two loops that differ in the sincos line only, so that each vectorises without a branch
-    if drift_bound <= DRIFT_MAX:
+    # three loops that differ in the sincos line only, so that each vectorises without a branch
+    if drift_bound <= DRIFT_SHORT:
+        for i in range(p.size):
+            pi_ = p[i] + h * (Fy * C[i] - Fx * S[i])
+            sd, cd = _sincos_drift_short(dt * pi_)
+            s2 = S[i] * cd + C[i] * sd
+            c2 = C[i] * cd - S[i] * sd
+            sc += c2
+            ss += s2
+            p[i] = pi_
+            S[i] = s2
+            C[i] = c2
+    elif drift_bound <= DRIFT_MAX:
         for i in range(p.size):
             pi_ = p[i] + h * (Fy * C[i] - Fx * S[i])
             sd, cd = _sincos_drift(dt * pi_)
@@ -131,6 +184,7 @@ def _kick_drift(p, S, C, first_kick, kick, dt, fx, fy, n_steps, field, out):
     part_c = np.zeros(n_chunks)
     part_s = np.zeros(n_chunks)
     bound = np.zeros(n_chunks)
+    path = np.zeros(n_chunks, dtype=np.int64)
     Fx = fx
     Fy = fy
     h = first_kick
@@ -138,16 +192,13 @@ def _kick_drift(p, S, C, first_kick, kick, dt, fx, fy, n_steps, field, out):
         if field == 2:
             Fx = out[j, 2]
             Fy = out[j, 3]
-        refresh = j % _BOUND_REFRESH == 0
+        periodic = j % _BOUND_REFRESH == 0
         for ch in prange(n_chunks):
             lo = ch * _CHUNK
             hi = min(lo + _CHUNK, n)
-            if refresh:
-                bound[ch] = _chunk_p_bound(p[lo:hi])
-            a, b = _chunk_step(p[lo:hi], S[lo:hi], C[lo:hi], h, dt, Fx, Fy, bound[ch])
-            part_c[ch] = a
-            part_s[ch] = b
-            bound[ch] += abs(h) * (abs(Fx) + abs(Fy))
+            part_c[ch], part_s[ch], bound[ch], path[ch] = _chunk_advance(
+                p[lo:hi], S[lo:hi], C[lo:hi], h, dt, Fx, Fy, bound[ch], path[ch], periodic
+            )
         tc = 0.0
         ts = 0.0
         for ch in range(n_chunks):
