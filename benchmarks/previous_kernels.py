@@ -127,8 +127,8 @@ class PreviousDisplacementAccumulator(accumulator.DisplacementAccumulator):
         self.bin0 = np.full(shape, -1, dtype=np.int16)
 
     def add(self, s, J, Jbar):
-        if s % self.origin_every == 0 and s // self.origin_every < self.n_origins:
-            sl = (s // self.origin_every) % self.n_slots
+        sl = self.origin_at(s)
+        if sl is not None:
             b = np.searchsorted(self.edges, Jbar, side="right") - 1
             b[(b >= self.n_bins) | (Jbar < self.edges[0])] = -1
             b[Jbar == self.edges[-1]] = self.n_bins - 1
@@ -137,17 +137,7 @@ class PreviousDisplacementAccumulator(accumulator.DisplacementAccumulator):
             self.bin0[sl] = b
             inside = b >= 0
             self.seen[np.flatnonzero(inside), b[inside]] = 1
-        o_last = min(s // self.origin_every, self.n_origins - 1)
-        o_first = max(0, -(-(s - self.max_lag) // self.origin_every))
-        if o_last < o_first:
-            return
-        orig = np.arange(o_first, o_last + 1)
-        lags = s - orig * self.origin_every
-        keep = (lags >= 0) & (lags <= self.max_lag)
-        orig, lags = orig[keep], lags[keep]
-        if orig.size == 0:
-            return
-        blocks = np.array([self.block_of(o) for o in orig], dtype=np.int64)
-        _accumulate_kernel(J, Jbar, (orig % self.n_slots).astype(np.int64),
-                           lags.astype(np.int64), blocks, self.J0_all, self.lib0_all, self.bin0,
-                           self.acc)  # fmt: skip
+        slots, lags, blocks = self.active_origins(s)
+        if slots.size:
+            _accumulate_kernel(J, Jbar, slots, lags, blocks, self.J0_all, self.lib0_all,
+                               self.bin0, self.acc)  # fmt: skip

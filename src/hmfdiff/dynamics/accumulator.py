@@ -161,6 +161,24 @@ class DisplacementAccumulator:
     def block_of(self, origin):
         return origin * self.n_blocks // self.n_origins
 
+    def origin_at(self, s):
+        """The slot of the origin that starts at sample s, or None."""
+        if s % self.origin_every == 0 and s // self.origin_every < self.n_origins:
+            return (s // self.origin_every) % self.n_slots
+        return None
+
+    def active_origins(self, s):
+        """(slots, lags, blocks) of the origins whose lag window holds sample s (int64 arrays,
+        possibly empty)."""
+        o_last = min(s // self.origin_every, self.n_origins - 1)
+        o_first = max(0, -(-(s - self.max_lag) // self.origin_every))
+        orig = np.arange(o_first, max(o_first, o_last + 1))
+        lags = s - orig * self.origin_every
+        keep = (lags >= 0) & (lags <= self.max_lag)
+        orig, lags = orig[keep], lags[keep]
+        blocks = np.array([self.block_of(o) for o in orig], dtype=np.int64)
+        return (orig % self.n_slots).astype(np.int64), lags.astype(np.int64), blocks
+
     def add(self, s, J, Jbar):
         """Record the actions at sample index s (called for s = 0, 1, ... in order)."""
         if self.order is None:
@@ -168,8 +186,8 @@ class DisplacementAccumulator:
         _permute(np.ascontiguousarray(J, dtype=np.float64), self.order, self._J)
         _permute(np.ascontiguousarray(Jbar, dtype=np.float64), self.order, self._Jbar)
         J, Jbar = self._J, self._Jbar
-        if s % self.origin_every == 0 and s // self.origin_every < self.n_origins:
-            sl = (s // self.origin_every) % self.n_slots
+        sl = self.origin_at(s)
+        if sl is not None:
             _fill_slot(
                 J,
                 Jbar,
@@ -180,30 +198,11 @@ class DisplacementAccumulator:
                 self.seg[sl],
                 self.seen,
             )
-        o_last = min(s // self.origin_every, self.n_origins - 1)
-        o_first = max(0, -(-(s - self.max_lag) // self.origin_every))
-        if o_last < o_first:
-            return
-        orig = np.arange(o_first, o_last + 1)
-        lags = s - orig * self.origin_every
-        keep = (lags >= 0) & (lags <= self.max_lag)
-        orig, lags = orig[keep], lags[keep]
-        if orig.size == 0:
-            return
-        slots = (orig % self.n_slots).astype(np.int64)
-        blocks = np.array([self.block_of(o) for o in orig], dtype=np.int64)
-        _accumulate_kernel(
-            J,
-            Jbar,
-            slots,
-            lags.astype(np.int64),
-            blocks,
-            self.idx,
-            self.J0,
-            self.lib0,
-            self.seg,
-            self.acc,
-        )
+        slots, lags, blocks = self.active_origins(s)
+        if slots.size:
+            _accumulate_kernel(
+                J, Jbar, slots, lags, blocks, self.idx, self.J0, self.lib0, self.seg, self.acc
+            )
 
     @property
     def n_particles_in_bin(self):

@@ -166,17 +166,9 @@ def _sincos_drift_short(d):
 
 
 @njit(fastmath=_FM)
-def _sincos_drift_kernel(x, s_out, c_out):
+def _sincos_drift_kernel(x, s_out, c_out, short):
     for i in range(x.size):
-        s, c = _sincos_drift(x[i])
-        s_out[i] = s
-        c_out[i] = c
-
-
-@njit(fastmath=_FM)
-def _sincos_drift_short_kernel(x, s_out, c_out):
-    for i in range(x.size):
-        s, c = _sincos_drift_short(x[i])
+        s, c = _sincos_drift_short(x[i]) if short else _sincos_drift(x[i])
         s_out[i] = s
         c_out[i] = c
 
@@ -184,7 +176,7 @@ def _sincos_drift_short_kernel(x, s_out, c_out):
 def sincos_drift_array(x, short=False):
     """(sin x, cos x) by the Taylor polynomials of the MD's drift rotation, for |x| <= DRIFT_MAX
     (short: the shorter ones, for |x| <= DRIFT_SHORT) (exposed for tests)."""
-    return _sincos_with(_sincos_drift_short_kernel if short else _sincos_drift_kernel, x)
+    return _sincos_with(lambda *a: _sincos_drift_kernel(*a, bool(short)), x)
 
 
 @njit(fastmath=_FM)
