@@ -18,8 +18,9 @@ on the MD's own J-bar bins):
                                                  # the realisation's time-averaged |M|
     python studies/separatrix_bins.py blocks     # MD(full): N D per block of origins against
                                                  # |M| over that block's time window
-    python studies/separatrix_bins.py spectrum [MD_FILES...]  # MD(full)'s magnetisation
-                                                 # spectrum against the dressed theory, by band
+    python studies/separatrix_bins.py spectrum [u=U] [MD_FILES...]  # MD(full)'s
+                                                 # magnetisation spectrum against the dressed
+                                                 # theory, by band (thermal u, default 0.2475)
 
 `theory`: N D at the outlier bins with n_max = l_max = 6, 8, 10; on 400 and 1600 kappa nodes;
 for a thermal state whose M0 is 1.5 % and 3 % off (MD(full)'s <|M|> differs from M0 by up to
@@ -315,19 +316,27 @@ def study_blocks():
 
 
 def study_spectrum(extra):
+    """`extra`: md files, optionally after u=U (another thermal state; then only those files)."""
     from hmfdiff.analysis.md_spectrum import measured_spectra, smoothed
     from hmfdiff.kinetic.dielectric import DielectricTensor
 
-    st = thermal()
+    u = U
+    if extra and extra[0].startswith("u="):
+        u, extra = float(extra[0][2:]), extra[1:]
+    st = thermal(u)
+    print(f"thermal state u = {u}, M0 = {st.M0:.6f}")
     dressed = SpectrumTable(st, n_max=8, eps=DielectricTensor(st, l_max=6))
     bare = SpectrumTable(st, n_max=8)
-    sets = {
-        f"study N = {n:.0e}": sorted(glob.glob(str(OUT / f"{PREFIX['full']}_N{n}_seed*.nc")))
-        for n in sizes(PREFIX["full"])
-    }
+    sets = {}
+    if u == U:
+        sets = {
+            f"study N = {n:.0e}": sorted(glob.glob(str(OUT / f"{PREFIX['full']}_N{n}_seed*.nc")))
+            for n in sizes(PREFIX["full"])
+        }
     if extra:
         sets["files given"] = sorted(extra)
-    bands = ((0.03, 0.1), (0.1, 0.2), (0.2, 0.4), (0.1, 0.4), (0.4, 0.8), (0.8, 1.5), (1.5, 3.0))
+    bands = ((0.03, 0.1), (0.1, 0.2), (0.2, 0.4), (0.1, 0.4), (0.4, 0.8), (0.8, 1.05),
+             (0.8, 1.5), (1.5, 3.0))  # fmt: skip
     for name, files in sets.items():
         om, meas, n_seg, seg, dt, N = measured_spectra([xr.open_dataset(f) for f in files])
         print(
