@@ -315,6 +315,36 @@ CLAIMS = [
         "P(z < -3) 0.0079, P(z > 3) 0.0009 (Student t: 0.0037 each)",
         "z < -3 comes 2.1 times as often as Student t says and z > 3 0.24 (MD(full))",
     ),
+    (
+        "spectrum_diffusion_u0.0_full.txt",
+        "measured / from MD's spectrum 0.768 +- 0.047 (jackknife over realisations, paired)",
+        "the measured N D is 0.851 +- 0.035 and 0.768 +- 0.047 of it at 5e5",
+    ),
+    (
+        "spectrum_diffusion_u0.0_full.txt",
+        "measured / from MD's spectrum 0.944 +- 0.020 (jackknife over realisations, paired)",
+        "and 0.944 +- 0.020 at 2e6 (jackknife over realisations, paired)",
+    ),
+    (
+        "spectrum_diffusion_u0.0_full.txt",
+        "from the dressed theory's 0.1501, ratio 1.081 +- 0.060",
+        "1.081 +- 0.060 and 1.039 +- 0.054 times the dressed theory's",
+    ),
+    (
+        "test_particles_u0.0_full.txt",
+        "1.039 |    2198  0.878 +- 0.034       |   37776  0.891 +- 0.034       | 1.016 +- 0.006",
+        "N D 0.891 +- 0.034 against 0.878 +- 0.034 over seeds 0-39, paired ratio 1.016 +- 0.006",
+    ),
+    (
+        "test_particles_u0.0_full.txt",
+        "|   64143  54.274 +- 10.390       | 69.937 +- 14.099",
+        "70 times larger (paired ratio 69.9 +- 14.1)",
+    ),
+    (
+        "test_particles_u0.0_full.txt",
+        "20 realisations: <dphi^2>(lag) = 1.77e-05 (10), 1.70e-03 (100), 1.53e-02 (300), 4.22e-02",
+        "1.7e-3 at lag 100, 4.2e-2 at 500 for N = 5e5",
+    ),
     # the u = 0.2475 MD(full) residual (studies/separatrix_bins.py spectrum, blocks; 2026-11-27)
     (
         "separatrix_spectrum_u0.2475.txt",
