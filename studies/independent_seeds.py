@@ -85,11 +85,16 @@ def main(md_dir, res, reference, case="thermal_u-0.2"):
             f"       {m / th:5.3f} {zs_both[-1]:+5.1f}"
         )
     for name, z in (("reference", zs_ref), ("new seeds", zs_new), ("both", zs_both)):
-        z = np.asarray(z)
-        print(
-            f"{name}: {z.size} bins, mean z {z.mean():+.2f}, mean z^2 {np.mean(z**2):.2f}, "
-            f"|z| < 2: {np.mean(np.abs(z) < 2):.0%}, |z| > 3: {np.sum(np.abs(z) > 3)}"
-        )
+        print(z_summary(name, z))
+
+
+def z_summary(name, z):
+    """One line: the number of bins, mean z, mean z^2, the fractions within 2 and beyond 3."""
+    z = np.asarray(z)
+    return (
+        f"{name}: {z.size} bins, mean z {z.mean():+.2f}, mean z^2 {np.mean(z**2):.2f}, "
+        f"|z| < 2: {np.mean(np.abs(z) < 2):.0%}, |z| > 3: {np.sum(np.abs(z) > 3)}"
+    )
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from independent_seeds import z_summary  # a sibling script: studies/ is on sys.path
 
 from hmfdiff.analysis.fits import validation_rows
 from hmfdiff.analysis.windowed import add_windowed
@@ -56,11 +57,7 @@ def main(run_res, theory_res, reference, case, dyn="full"):
             f" {n['ND_md'] / th:5.3f} {z:+5.1f} | {float(r['ratio_propagated']):5.3f}"
             f" {float(r['z_propagated']):+5.1f}"
         )
-    z = np.asarray(zs)
-    print(
-        f"this run: {z.size} bins, mean z {z.mean():+.2f}, mean z^2 {np.mean(z**2):.2f}, "
-        f"|z| < 2: {np.mean(np.abs(z) < 2):.0%}, |z| > 3: {np.sum(np.abs(z) > 3)}"
-    )
+    print(z_summary("this run", zs))
 
 
 if __name__ == "__main__":
