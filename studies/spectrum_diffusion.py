@@ -21,7 +21,6 @@ noise, the field of each realisation, cancels).
 
 from __future__ import annotations
 
-import json
 import sys
 
 import numpy as np
@@ -48,7 +47,8 @@ class Tabulated:
 
 
 def seed_of(ds):
-    return int(json.loads(ds.attrs["config"])["seed"])
+    """The realisation's seed, as `fits.diffusion_fit` names it."""
+    return int(ds.attrs["seed"])
 
 
 def main(u, k_lo, k_hi, files, fit_file=None):
