@@ -21,7 +21,6 @@ import numpy as np
 
 from hmfdiff.analysis import propagated
 from hmfdiff.analysis.fits import fit_slope
-from hmfdiff.meanfield import orbits
 from hmfdiff.pipeline.io import read_dataset
 from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
 
@@ -33,26 +32,15 @@ def main(fit_file, res, case, kappas):
     dyn = fit.attrs["dynamics"]
     state = state_from_dataset(read_dataset(Path(res) / "equilibrium" / f"{case}.nc"))
     theory = read_dataset(Path(res) / "theory" / f"{case}.nc")
-    N, M0, lag = float(fit.attrs["N"]), float(fit["M0"]), fit["lag"].values
-    x, h, per_bin = propagated._cells(fit, 3.0)
-    D = propagated._D_jbar(
-        np.arange(1, x.size) * h,
-        propagated.nd_from_theory(theory, dyn),
-        M0,
-        N,
-        propagated.SEPARATRIX_GAP,
-    )
-    n_bins = fit.sizes["bin"]
-    w = propagated.tracked_density(x[: n_bins * per_bin], fit, state.f).reshape(n_bins, per_bin)
+    N = float(fit.attrs["N"])
+    nd = propagated.nd_from_theory(theory, dyn)
+    lag, msd_th = propagated.propagated_msd_at_bins(fit, nd, state.f)
     print(f"{case} MD({dyn}), N = {N:.3g}, {int(fit.attrs['n_seeds'])} realisations "
           "(MD slope / propagated theory's slope over lag windows)")  # fmt: skip
     print(" kappa0  " + " ".join(f"{lo:>4d}-{hi:<4d}" for lo, hi in WINDOWS))
     for k in kappas:
         b = int(np.argmin(np.abs(fit["kappa0"].values - k)))
-        P0 = np.zeros((x.size, 1))
-        P0[b * per_bin : (b + 1) * per_bin, 0] = w[b]
-        jac2 = 4.0 if fit["jbar0"].values[b] < orbits.jbar_separatrix(M0) else 1.0
-        th = jac2 * propagated.propagated_msd(x, h, D, P0, lag)[:, 0]
+        th = msd_th[:, b]
         md = fit["msd"].values[b]
         ratios = [
             fit_slope(lag, md[None, :], win)[0][0] / fit_slope(lag, th[None, :], win)[0][0]

@@ -49,6 +49,7 @@ from .fits import fit_slope, kappa_of_jbar, theory_at_bins, tracked_density
 
 __all__ = [
     "propagated_at_bins",
+    "propagated_msd_at_bins",
     "propagated_msd",
     "nd_from_theory",
     "PROPAGATED_COLUMNS",
@@ -127,16 +128,15 @@ def propagated_msd(x, h, D_faces, P0, lags, rho=None):
     return e @ (c2 * a0) - 2.0 * (e @ (c1 * a1)) + m0[None, :]
 
 
-def propagated_at_bins(fit, nd_of_kappa, f_of_kappa, *, kappa_top=3.0, gap=SEPARATRIX_GAP):
-    """ND_propagated per bin of a fit dataset (`fits.diffusion_fit`): the slope over the fit's
-    window of the <dJ^2>(lag) that the theory's N D_J(kappa) (`nd_of_kappa`, of the fit's
-    dynamics) gives when propagated over the fit's lags (module docstring); cells up to
-    J-bar(kappa_top); no friction (module docstring).  NaN for bins that reach into
-    |kappa - 1| < gap."""
+def propagated_msd_at_bins(fit, nd_of_kappa, f_of_kappa, *, kappa_top=3.0, gap=SEPARATRIX_GAP):
+    """<dJ^2>(lag) per bin of a fit dataset (`fits.diffusion_fit`), in J units like the fit's
+    `msd`, as the theory's N D_J(kappa) (`nd_of_kappa`, of the fit's dynamics) gives it when
+    propagated over the fit's lags from each bin's tracked density (module docstring); cells up
+    to J-bar(kappa_top); no friction.  Returns (lag, msd (lag, bin)); NaN for bins with no
+    tracked density."""
     N = float(fit.attrs["N"])
     M0 = float(fit["M0"])
     lag = fit["lag"].values
-    window = tuple(float(w) for w in fit.attrs["fit_window"])
     x, h, per_bin = _cells(fit, kappa_top)
     D = _D_jbar(np.arange(1, x.size) * h, nd_of_kappa, M0, N, gap)
     n_bins = fit.sizes["bin"]
@@ -145,12 +145,26 @@ def propagated_at_bins(fit, nd_of_kappa, f_of_kappa, *, kappa_top=3.0, gap=SEPAR
     for b in range(n_bins):
         P0[b * per_bin : (b + 1) * per_bin, b] = w[b]
     live = P0.sum(0) > 0
-    out = np.full(n_bins, np.nan)
+    msd = np.full((lag.size, n_bins), np.nan)
     if np.any(live):
-        msd = propagated_msd(x, h, D, P0[:, live], lag)  # (lag, bin)
         jbar0 = fit["jbar0"].values[live]
         jac2 = np.where(jbar0 < orbits.jbar_separatrix(M0), 4.0, 1.0)
-        out[live] = 0.5 * N * fit_slope(lag, (msd * jac2[None, :]).T, window)[0]
+        msd[:, live] = propagated_msd(x, h, D, P0[:, live], lag) * jac2[None, :]
+    return lag, msd
+
+
+def propagated_at_bins(fit, nd_of_kappa, f_of_kappa, *, kappa_top=3.0, gap=SEPARATRIX_GAP):
+    """ND_propagated per bin of a fit dataset (`fits.diffusion_fit`): half the slope over the
+    fit's window of `propagated_msd_at_bins`, times N.  NaN for bins that reach into
+    |kappa - 1| < gap or have no tracked density."""
+    N = float(fit.attrs["N"])
+    M0 = float(fit["M0"])
+    window = tuple(float(w) for w in fit.attrs["fit_window"])
+    lag, msd = propagated_msd_at_bins(fit, nd_of_kappa, f_of_kappa, kappa_top=kappa_top, gap=gap)
+    out = np.full(msd.shape[1], np.nan)
+    live = np.all(np.isfinite(msd), axis=0)
+    if np.any(live):
+        out[live] = 0.5 * N * fit_slope(lag, msd[:, live].T, window)[0]
     edges = fit["jbar_edges"].values
     k_lo, k_hi = kappa_of_jbar(edges[:-1], M0), kappa_of_jbar(edges[1:], M0)
     out[(k_hi > 1.0 - gap) & (k_lo < 1.0 + gap)] = np.nan
