@@ -27,23 +27,16 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from independent_seeds import DYN, seed_path  # a sibling script: studies/ is on sys.path
 
 from hmfdiff.analysis.fits import diffusion_fit
 from hmfdiff.analysis.propagated import nd_from_theory, propagated_at_bins
 from hmfdiff.pipeline.io import read_dataset
 from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
 
-DYN = "full"
-
 
 def seed_files(md_dir, case, first, last):
-    out = []
-    for s in range(first, last + 1):
-        found = sorted((Path(md_dir) / case / DYN).glob(f"seeds*/seed{s}.nc"))
-        if len(found) != 1:
-            sys.exit(f"{md_dir}/{case}/{DYN}: {len(found)} files for seed {s}, expected one")
-        out.append(found[0])
-    return out
+    return [seed_path(md_dir, case, s) for s in range(first, last + 1)]
 
 
 def main(md_a, md_b, res, case, first, last):
