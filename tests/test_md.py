@@ -99,7 +99,10 @@ def test_actions_of_phase_points(state):
 def test_full_dynamics_conserves_energy_and_momentum(state):
     """H/N and sum p of the full HMF dynamics (eq. hmfmdfull); the energy error of the
     2nd-order velocity Verlet scales as dt^2 (measured: 3.5e-5 relative at dt = 0.05, N = 4000,
-    T = 100)."""
+    T = 100).  The forces sum to zero, so sum p moves by the float32 state's rounding only: each
+    kick rounds p (|p| < 4) by up to 2.4e-7, randomly, so <p> walks by about
+    1e-7 / sqrt(12 N) a step, 3e-8 over the 4000 steps at dt = 0.025 (measured 2.8e-8); a field
+    one step stale, or a kick of the wrong sign in one term, moves it by 1e-3 or more."""
     th, p = thermal_particles(state, 4000, seed=3)
     errs = []
     for dt in (0.05, 0.025):
@@ -117,24 +120,29 @@ def test_full_dynamics_conserves_energy_and_momentum(state):
             err = max(err, abs(e - e0) / abs(e0))
             perr = max(perr, abs(pm - p0))
         errs.append(err)
-        assert perr < 1e-13  # forces sum to zero: momentum conserved to round-off
+        assert perr < 2e-7  # forces sum to zero: momentum conserved to round-off
     assert errs[0] < 1e-4
     assert 3.0 < errs[0] / errs[1] < 5.5  # second order
 
 
 def test_time_reversibility(state):
+    """100 steps forward and 100 back return to the start, to the float32 state's rounding
+    (6e-8 a step) amplified by the dynamics' chaos: measured 1e-5 (2e-4 after 400 steps each
+    way); a closing kick of dt instead of dt/2 leaves 3e-2."""
     th, p = thermal_particles(state, 3000, seed=4)
     P = integrator.Particles(th, p)
-    integrator.leapfrog(P, 1000, dt=0.05, field=Field.SELF)
+    integrator.leapfrog(P, 100, dt=0.05, field=Field.SELF)
     assert np.max(np.abs(P.p - p)) > 1e-2  # it did move
-    integrator.leapfrog(P, 1000, dt=-0.05, field=Field.SELF)
-    assert np.max(np.abs(sampling.wrap_angle(P.theta - th))) < 1e-10
-    assert np.max(np.abs(P.p - p)) < 1e-10
+    integrator.leapfrog(P, 100, dt=-0.05, field=Field.SELF)
+    assert np.max(np.abs(sampling.wrap_angle(P.theta - th))) < 1e-4
+    assert np.max(np.abs(P.p - p)) < 1e-4
 
 
 def test_static_field_pendulum_keeps_action_and_matches_ode():
     """Bath particles in the static field (theta'' = -M0 sin theta) keep J to O(dt^2), and the
-    trajectory converges to an accurate ODE solution."""
+    trajectory converges to an accurate ODE solution at second order (at dt = 0.02 and 0.01;
+    below dt ~ 0.005 the float32 state's rounding, ~1e-4 here over 1000-2000 steps, takes
+    over from the truncation error)."""
     rng = np.random.default_rng(11)
     kappa = np.concatenate([np.linspace(0.05, 0.95, 40), np.linspace(1.05, 3.0, 40)])
     th0, p0 = orbits.phase_point(
@@ -155,8 +163,6 @@ def test_static_field_pendulum_keeps_action_and_matches_ode():
     assert errs[0] < 2e-3
     assert 3.0 < errs[0] / errs[1] < 5.5
     # trajectory against scipy's DOP853 over t = 10
-    P = integrator.Particles(th0[::8], p0[::8])
-    integrator.leapfrog(P, 10000, dt=0.001, field=Field.STATIC, fx=M0)
     y0 = np.concatenate([th0[::8], p0[::8]])
     n = y0.size // 2
     sol = solve_ivp(
@@ -167,13 +173,23 @@ def test_static_field_pendulum_keeps_action_and_matches_ode():
         rtol=1e-12,
         atol=1e-12,
     )
-    assert np.max(np.abs(sampling.wrap_angle(P.theta - sol.y[:n, -1]))) < 1e-5
-    assert np.max(np.abs(P.p - sol.y[n:, -1])) < 1e-5
+    errs = []
+    for dt in (0.02, 0.01):
+        P = integrator.Particles(th0[::8], p0[::8])
+        integrator.leapfrog(P, int(round(10 / dt)), dt=dt, field=Field.STATIC, fx=M0)
+        errs.append(np.max(np.abs(sampling.wrap_angle(P.theta - sol.y[:n, -1]))))
+        assert np.max(np.abs(P.p - sol.y[n:, -1])) < 2.0 * errs[-1]
+    # measured 1.03e-3 and 2.5e-4 (orbits within 0.05 of the separatrix in kappa)
+    assert errs[1] < 4e-4
+    assert 3.0 < errs[0] / errs[1] < 5.5
 
 
 def test_rotation_leaves_frame_actions_unchanged(state):
     """Rotating every particle by one angle changes no action measured in the magnetisation
-    frame, at t = 0 and after 200 steps of the full dynamics."""
+    frame, at t = 0 and after 200 steps of the full dynamics: to the float32 state's rounding
+    of the rotated angles (6e-8; measured 5e-8 in J at t = 0), grown by the chaos of the
+    dynamics (measured 3.4e-6 at t = 10); a dynamics that is not invariant under rotation
+    gives 1e-2."""
     th, p = thermal_particles(state, 2000, seed=6)
     th = sampling.wrap_angle(th + 0.3)  # magnetisation off the x axis
     alpha = 1.234
@@ -183,7 +199,7 @@ def test_rotation_leaves_frame_actions_unchanged(state):
         for P in (P1, P2):
             m = P.moments()
             J.append(elementary.actions(P.theta, P.p, M0, np.arctan2(m[1], m[0]))[0])
-        assert np.max(np.abs(J[0] - J[1])) < (1e-12 if k == 0 else 1e-8)
+        assert np.max(np.abs(J[0] - J[1])) < (2e-7 if k == 0 else 3e-5)
         for P in (P1, P2):
             integrator.leapfrog(P, 200, dt=0.05, field=Field.SELF)
 

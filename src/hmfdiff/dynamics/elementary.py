@@ -1,7 +1,8 @@
 """Vectorisable elementary kernels of the MD: sin/cos polynomials and actions by the AGM.
 
-sin and cos of the drift angle dt p of one step come from Taylor polynomials (`_sincos_drift`,
-|dt p| <= DRIFT_MAX, absolute error < 2e-16), those of a wrapped angle from a branch-free
+sin and cos of the drift angle dt p of one step come from Taylor polynomials in float32, the
+MD state's precision (`_sincos_drift32`, |dt p| <= DRIFT_MAX, within about one ulp), those of a
+wrapped angle from a branch-free
 half-angle polynomial (`_sincos_wrapped`, absolute error < 6e-16), so that the particle loops
 vectorise; a general
 vectorisable sincos (`_sincos`: quadrant reduction with a three-part pi/2, error ~1 ulp for |x|
@@ -92,16 +93,19 @@ _CH = (
 _SH1, _SH2, _SH3, _SH4, _SH5, _SH6, _SH7, _SH8 = _SH
 _CH1, _CH2, _CH3, _CH4, _CH5, _CH6, _CH7 = _CH
 
-# sin and cos of the drift angle d = dt p of one step, by their Taylor series: sin d through
-# d^13, cos d through d^14.  For |d| <= DRIFT_MAX the first omitted terms, d^15/15! and
-# d^16/16!, are below 2.3e-17 and 7e-19: below the rounding of the Horner sums.
+# sin and cos of the drift angle d = dt p of one step, by their Taylor series, in the float32
+# of the MD's state (`integrator.STATE_DTYPE`), cut where float32 stops seeing the next term.
+# On |d| <= DRIFT_SHORT (the drift angles of the MD at dt = 0.05, |p| < 4) sin d through d^5
+# and cos d through d^6: the first omitted terms are below 2.6e-9 and 6.4e-11, against
+# float32's half ulp of sin d (>= 7.5e-9 for |d| >= 0.125) and of cos d (3e-8).  On
+# |d| <= DRIFT_MAX sin d through d^7 and cos d through d^8 (below 5.4e-9 and 2.7e-10).
+# Coefficients rounded to float32.
 DRIFT_MAX = 0.5
-_D1, _D2, _D3, _D4, _D5, _D6 = ((-1) ** k / math.factorial(2 * k + 1) for k in range(1, 7))
-_E2, _E3, _E4, _E5, _E6, _E7 = ((-1) ** k / math.factorial(2 * k) for k in range(2, 8))
-# the same series cut shorter, sin d through d^11 and cos d through d^10, for |d| <= DRIFT_SHORT:
-# the first omitted terms, d^13/13! and d^12/12!, are below 1.4e-19 and 8.6e-18 there.  The drift
-# angles of the MD at dt = 0.05 (|p| < 4) lie there: about 20 % less work per particle and step.
 DRIFT_SHORT = 0.2
+_D1f, _D2f, _D3f = (np.float32((-1) ** k / math.factorial(2 * k + 1)) for k in range(1, 4))
+_E2f, _E3f, _E4f = (np.float32((-1) ** k / math.factorial(2 * k)) for k in range(2, 5))
+_HALF_F = np.float32(0.5)
+_ONE_F = np.float32(1.0)
 
 _CHUNK = 4096  # particles per chunk of the deterministic reductions
 
@@ -146,37 +150,41 @@ def _sincos_wrapped(x):
 
 
 @njit(fastmath={"contract"})
-def _sincos_drift(d):
-    """(sin d, cos d) for |d| <= DRIFT_MAX, the drift angle of one step: Taylor series, no
-    range reduction (about half the work of `_sincos_wrapped`); absolute error < 2e-16."""
+def _sincos_drift32(d):
+    """(sin d, cos d) of a float32 d, |d| <= DRIFT_MAX, in float32 (the MD's step): Taylor
+    series, no range reduction; within about one ulp (tests/test_drift_rotation.py)."""
     z = d * d
-    s = d + d * z * (_D1 + z * (_D2 + z * (_D3 + z * (_D4 + z * (_D5 + z * _D6)))))
-    c = 1.0 - 0.5 * z + z * z * (_E2 + z * (_E3 + z * (_E4 + z * (_E5 + z * (_E6 + z * _E7)))))
+    s = d + d * z * (_D1f + z * (_D2f + z * _D3f))
+    c = _ONE_F - _HALF_F * z + z * z * (_E2f + z * (_E3f + z * _E4f))
     return s, c
 
 
 @njit(fastmath={"contract"})
-def _sincos_drift_short(d):
-    """(sin d, cos d) for |d| <= DRIFT_SHORT: the Taylor series of `_sincos_drift` cut two
-    terms shorter in cos, one in sin; absolute error < 2e-16."""
+def _sincos_drift32_short(d):
+    """(sin d, cos d) of a float32 d, |d| <= DRIFT_SHORT, in float32: one term shorter than
+    `_sincos_drift32` in each."""
     z = d * d
-    s = d + d * z * (_D1 + z * (_D2 + z * (_D3 + z * (_D4 + z * _D5))))
-    c = 1.0 - 0.5 * z + z * z * (_E2 + z * (_E3 + z * (_E4 + z * _E5)))
+    s = d + d * z * (_D1f + z * _D2f)
+    c = _ONE_F - _HALF_F * z + z * z * (_E2f + z * _E3f)
     return s, c
 
 
 @njit(fastmath=_FM)
-def _sincos_drift_kernel(x, s_out, c_out, short):
+def _sincos_drift32_kernel(x, s_out, c_out, short):
     for i in range(x.size):
-        s, c = _sincos_drift_short(x[i]) if short else _sincos_drift(x[i])
+        s, c = _sincos_drift32_short(x[i]) if short else _sincos_drift32(x[i])
         s_out[i] = s
         c_out[i] = c
 
 
 def sincos_drift_array(x, short=False):
-    """(sin x, cos x) by the Taylor polynomials of the MD's drift rotation, for |x| <= DRIFT_MAX
-    (short: the shorter ones, for |x| <= DRIFT_SHORT) (exposed for tests)."""
-    return _sincos_with(lambda *a: _sincos_drift_kernel(*a, bool(short)), x)
+    """(sin x, cos x) in float32 by the Taylor polynomials of the MD's drift rotation, for x
+    rounded to float32, |x| <= DRIFT_MAX (short: the shorter ones, for |x| <= DRIFT_SHORT)
+    (exposed for tests)."""
+    x = np.ascontiguousarray(x, dtype=np.float32).ravel()
+    s, c = np.empty_like(x), np.empty_like(x)
+    _sincos_drift32_kernel(x, s, c, bool(short))
+    return s, c
 
 
 @njit(fastmath=_FM)

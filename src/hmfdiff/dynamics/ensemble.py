@@ -34,7 +34,7 @@ from numba import njit, prange
 
 from . import sampling
 from .elementary import _CHUNK, _FM, angles, frame_actions, sincos_wrapped_array
-from .integrator import _BOUND_REFRESH, _chunk_advance
+from .integrator import _BOUND_REFRESH, STATE_DTYPE, _chunk_advance
 
 __all__ = ["ACTION_MEASURES", "Ensemble", "measurement_times", "run_ensemble"]
 
@@ -75,11 +75,13 @@ def _ensemble_steps(p, S, C, M, n_steps, dt):
             fx = tc / N
             fy = ts / N
             kick = dt
-        for i in range(N):
-            p[r, i] = p[r, i] + h * (fy * C[r, i] - fx * S[r, i])
-            norm = 1.0 / math.sqrt(S[r, i] * S[r, i] + C[r, i] * C[r, i])
-            S[r, i] = S[r, i] * norm
-            C[r, i] = C[r, i] * norm
+        for i in range(N):  # in float64, as `integrator._kick`
+            s = np.float64(S[r, i])
+            c = np.float64(C[r, i])
+            p[r, i] = np.float64(p[r, i]) + h * (fy * c - fx * s)
+            norm = 1.0 / math.sqrt(s * s + c * c)
+            S[r, i] = s * norm
+            C[r, i] = c * norm
         M[r, 0] = fx
         M[r, 1] = fy
 
@@ -94,10 +96,11 @@ def _ensemble_moments(p, S, C, out):
         c = 0.0
         d = 0.0
         for i in range(N):
+            q = np.float64(p[r, i])
             a += C[r, i]
             b += S[r, i]
-            c += p[r, i]
-            d += p[r, i] * p[r, i]
+            c += q
+            d += q * q
         out[r, 0] = a / N
         out[r, 1] = b / N
         out[r, 2] = c / N
@@ -106,7 +109,8 @@ def _ensemble_moments(p, S, C, out):
 
 class Ensemble:
     """R realisations of N particles: p and the sin S and cos C of the angles, of shape (R, N)
-    (the angles themselves: `theta`), and the magnetisation (Mx, My) of each realisation."""
+    and type `integrator.STATE_DTYPE` (the angles themselves: `theta`), and the magnetisation
+    (Mx, My) of each realisation."""
 
     def __init__(self, theta, p):
         theta = np.atleast_2d(np.asarray(theta, dtype=np.float64))
@@ -114,10 +118,10 @@ class Ensemble:
         if theta.shape != p.shape or theta.shape[1] < 1:
             raise ValueError(f"theta {theta.shape} and p {p.shape} must both be (R, N), N >= 1")
         theta = np.ascontiguousarray(sampling.wrap_angle(theta))
-        self.p = np.ascontiguousarray(p).copy()
+        self.p = np.array(p, dtype=STATE_DTYPE)
         s, c = sincos_wrapped_array(theta)
-        self.S = s.reshape(theta.shape)
-        self.C = c.reshape(theta.shape)
+        self.S = s.reshape(theta.shape).astype(STATE_DTYPE)
+        self.C = c.reshape(theta.shape).astype(STATE_DTYPE)
         self.M = np.ascontiguousarray(self.moments()[:, :2])
 
     @property

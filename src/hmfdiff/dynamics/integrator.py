@@ -9,13 +9,24 @@ theta: the drift theta += d, d = dt p, is the rotation of (S, C) by d, with sin 
 from short Taylor polynomials (shorter still for |d| <= `elementary.DRIFT_SHORT`, which holds
 at dt = 0.05 for |p| < 4; up to |d| <= `elementary.DRIFT_MAX` longer ones; a chunk whose
 momenta may exceed that, by a bound on |p| kept per chunk, takes the general half-angle sincos
-of the wrapped d).  That is about 20 floating-point operations (16 on the short path) and
-24 bytes per particle and step, against 36 and 32 when theta was stored and its sincos
-evaluated each step.  The closing half kick also divides (S, C) by its norm, so that rounding
-cannot accumulate on it.  The
-angles, where needed (`Particles.theta`), are atan2(S, C).  Reductions are deterministic:
-particles are cut into a fixed number of chunks (independent of the thread count) whose partial
-sums are combined in order.
+of the wrapped d).
+
+The state (p, S, C) and the steps' arithmetic are float32 (`STATE_DTYPE`): about 12 floating-
+point operations and 12 bytes per particle and step, twice as many particles per vector
+instruction as float64 (x2.1-2.3 in `benchmarks/bench_md.py`).  What that costs: p and the
+angle are held to 6e-8 relative and absolute, the drift angle of each step is rounded to
+float32 (a relative frequency error below 1e-7), the rotation's rounding changes the norm of
+(S, C) by up to ~6e-8 a step (divided out every `_BOUND_REFRESH` steps and by each closing
+half kick), and the total momentum, conserved exactly in exact arithmetic, walks by the
+kicks' rounding, ~1e-7 / sqrt(12 N) a step.  All of it is far below the O(N^-1/2) fluctuations
+the MD measures (the magnetisation's ~1e-3 at N = 5e5; an action's rms change over the fit
+window ~1e-3); the trust study is in the README ("MD in float32").  The magnetisation, the
+energy, the momentum and the actions are formed in float64 from the float32 state; the sums of
+cos and sin over a chunk within a step are float32 (their rounding, ~1e-8 on the magnetisation
+of 5e5 particles).  The closing half kick is computed in float64 and also divides (S, C) by its
+norm.  The angles, where needed (`Particles.theta`), are atan2(S, C).  Reductions are
+deterministic: particles are cut into a fixed number of chunks (independent of the thread
+count) whose partial sums are combined in order.
 """
 
 from __future__ import annotations
@@ -34,17 +45,29 @@ from .elementary import (
     _TWO_PI,
     DRIFT_MAX,
     DRIFT_SHORT,
-    _sincos_drift,
-    _sincos_drift_short,
+    _sincos_drift32,
+    _sincos_drift32_short,
     _sincos_wrapped,
     angles,
     sincos_wrapped_array,
 )
 from .jit import njit
 
-__all__ = ["INTEGRATOR", "Field", "Particles", "leapfrog", "advance_system", "advance_in_field"]
+__all__ = [
+    "INTEGRATOR",
+    "STATE_DTYPE",
+    "Field",
+    "Particles",
+    "leapfrog",
+    "advance_system",
+    "advance_in_field",
+]
 
 INTEGRATOR = "velocity Verlet (kick-drift-kick leapfrog), 2nd order, symplectic"
+
+#: the floating-point type of the particles' state (p, sin theta, cos theta) and of the steps'
+#: arithmetic; magnetisation, energy and actions are computed from it in float64
+STATE_DTYPE = np.float32
 
 
 class Field(enum.Enum):
@@ -67,11 +90,13 @@ _BOUND_REFRESH = 32
 
 @njit(fastmath=_FM)
 def _chunk_p_bound(p):
-    """(sum p^8)^(1/8) over a chunk: >= max |p| (within 2^(1/8) of it over 4096 particles of
-    a Maxwellian), vectorisable where a max is not; inf or NaN if some p is huge or NaN."""
+    """(sum p^8)^(1/8) over a chunk, in float64: >= max |p| (within 2^(1/8) of it over 4096
+    particles of a Maxwellian), vectorisable where a max is not; inf or NaN if some p is huge
+    or NaN."""
     q8 = 0.0
     for i in range(p.size):
-        q2 = p[i] * p[i]
+        q = np.float64(p[i])
+        q2 = q * q
         q4 = q2 * q2
         q8 += q4 * q4
     return q8**0.125
@@ -104,34 +129,53 @@ def _refreshed_bound(p, bound, path, periodic, grow, dt):
 @njit
 def _chunk_advance(p, S, C, h, dt, Fx, Fy, bound, path, periodic):
     """One step of a chunk with its bound on |p| kept: refreshed if due (`_refreshed_bound`),
-    used to pick the sincos path, then grown by the step's largest kick.  Returns (sum cos,
-    sum sin of the new angles, bound, path).  The one place both kernels (`_kick_drift`, the
-    ensemble's) keep the bound."""
+    used to pick the sincos path, then grown by the step's largest kick.  On the periodic
+    steps (S, C) is first divided by its norm: a float32 rotation by a nearly constant angle
+    changes the norm coherently, by up to ~6e-8 a step, so this holds it within ~2e-6 of 1
+    however long a call runs.  Returns (sum cos, sum sin of the new angles, bound, path).  The
+    one place both kernels (`_kick_drift`, the ensemble's) keep the bound and the norm."""
     grow = abs(h) * (abs(Fx) + abs(Fy))
+    if periodic:
+        _chunk_normalise(S, C)
     bound, path = _refreshed_bound(p, bound, path, periodic, grow, dt)
     a, b = _chunk_step(p, S, C, h, dt, Fx, Fy, bound)
     return a, b, bound + grow, path
 
 
 @njit(fastmath=_FM)
-def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
-    """One fused leapfrog step of the particles (a chunk, passed as array views); returns sum
-    cos, sum sin of the new angles.
+def _chunk_normalise(S, C):
+    """(S, C) divided by its norm, in float32."""
+    for i in range(S.size):
+        r = np.float32(1.0) / np.sqrt(S[i] * S[i] + C[i] * C[i])
+        S[i] = S[i] * r
+        C[i] = C[i] * r
 
-    p += h (-Fx sin theta + Fy cos theta); theta += dt p, i.e. (S, C) rotated by d = dt p.
-    p_bound >= max |p| on entry (inf when unknown): with the kick's bound |h| (|Fx| + |Fy|) it
-    bounds |d|, and picks the short Taylor sincos of d (|d| <= DRIFT_SHORT), the long one
-    (|d| <= DRIFT_MAX) or else the general one of d wrapped to [-pi, pi) (a NaN bound picks the
-    general one)."""
-    sc = 0.0
-    ss = 0.0
+
+@njit(fastmath=_FM)
+def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
+    """One fused leapfrog step of the particles (a chunk, passed as float32 array views);
+    returns sum cos, sum sin of the new angles (as float64).
+
+    p += h (-Fx sin theta + Fy cos theta); theta += dt p, i.e. (S, C) rotated by d = dt p, all
+    in float32 (h, dt, Fx, Fy rounded to it), the chunk's two sums included (their rounding,
+    ~1e-3 on a sum of 4096, is ~1e-8 on the magnetisation of 5e5 particles, whose own
+    fluctuations are 1e-3).  p_bound >= max |p| on entry (inf when unknown): with the kick's
+    bound |h| (|Fx| + |Fy|) it bounds |d|, and picks the short Taylor sincos of d
+    (|d| <= DRIFT_SHORT), the long one (|d| <= DRIFT_MAX) or else the general one of d wrapped
+    to [-pi, pi), in float64 (a NaN bound picks the general one)."""
     drift_bound = abs(dt) * (p_bound + abs(h) * (abs(Fx) + abs(Fy)))
+    h32 = np.float32(h)
+    dt32 = np.float32(dt)
+    fx = np.float32(Fx)
+    fy = np.float32(Fy)
+    sc = np.float32(0.0)
+    ss = np.float32(0.0)
     # range(size), not range(lo, hi): numba's negative-index handling blocks vectorisation;
     # three loops that differ in the sincos line only, so that each vectorises without a branch
     if drift_bound <= DRIFT_SHORT:
         for i in range(p.size):
-            pi_ = p[i] + h * (Fy * C[i] - Fx * S[i])
-            sd, cd = _sincos_drift_short(dt * pi_)
+            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            sd, cd = _sincos_drift32_short(dt32 * pi_)
             s2 = S[i] * cd + C[i] * sd
             c2 = C[i] * cd - S[i] * sd
             sc += c2
@@ -141,8 +185,8 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
             C[i] = c2
     elif drift_bound <= DRIFT_MAX:
         for i in range(p.size):
-            pi_ = p[i] + h * (Fy * C[i] - Fx * S[i])
-            sd, cd = _sincos_drift(dt * pi_)
+            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            sd, cd = _sincos_drift32(dt32 * pi_)
             s2 = S[i] * cd + C[i] * sd
             c2 = C[i] * cd - S[i] * sd
             sc += c2
@@ -152,10 +196,12 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
             C[i] = c2
     else:
         for i in range(p.size):
-            pi_ = p[i] + h * (Fy * C[i] - Fx * S[i])
-            d = dt * pi_
+            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            d = dt * np.float64(pi_)
             d = d - _TWO_PI * np.floor(d * _INV_TWO_PI + 0.5)
-            sd, cd = _sincos_wrapped(d)
+            sd64, cd64 = _sincos_wrapped(d)
+            sd = np.float32(sd64)
+            cd = np.float32(cd64)
             s2 = S[i] * cd + C[i] * sd
             c2 = C[i] * cd - S[i] * sd
             sc += c2
@@ -163,7 +209,7 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
             p[i] = pi_
             S[i] = s2
             C[i] = c2
-    return sc, ss
+    return np.float64(sc), np.float64(ss)
 
 
 @njit(parallel=True)
@@ -215,14 +261,17 @@ def _kick_drift(p, S, C, first_kick, kick, dt, fx, fy, n_steps, field, out):
 @njit(fastmath=_FM)
 def _kick(p, S, C, h, fx, fy):
     """Kick p += h (-fx sin theta + fy cos theta) with the stored S, C (re-synchronises p),
-    and (S, C) divided by its norm (the rotations of the steps keep it 1 to rounding only).
+    and (S, C) divided by its norm (the rotations of the steps keep it 1 to rounding only);
+    computed in float64, stored in the state's float32.
 
     Serial: it runs once per sampling interval (memory bound, ~1 ms for 5e5 particles)."""
     for i in range(p.size):
-        p[i] = p[i] + h * (fy * C[i] - fx * S[i])
-        r = 1.0 / math.sqrt(S[i] * S[i] + C[i] * C[i])
-        S[i] = S[i] * r
-        C[i] = C[i] * r
+        s = np.float64(S[i])
+        c = np.float64(C[i])
+        p[i] = np.float64(p[i]) + h * (fy * c - fx * s)
+        r = 1.0 / math.sqrt(s * s + c * c)
+        S[i] = s * r
+        C[i] = c * r
 
 
 @njit(fastmath=_FM)
@@ -232,10 +281,11 @@ def _chunk_moments(p, S, C):
     c = 0.0
     d = 0.0
     for i in range(p.size):
+        q = np.float64(p[i])
         a += C[i]
         b += S[i]
-        c += p[i]
-        d += p[i] * p[i]
+        c += q
+        d += q * q
     return a, b, c, d
 
 
@@ -261,14 +311,15 @@ def _moments(p, S, C):
 
 
 class Particles:
-    """Momenta p and the sin S and cos C of the angles (the angles themselves: `theta`)."""
+    """Momenta p and the sin S and cos C of the angles (the angles themselves: `theta`), in
+    `STATE_DTYPE`."""
 
     def __init__(self, theta, p):
         theta = np.ascontiguousarray(sampling.wrap_angle(theta), dtype=np.float64)
-        self.p = np.ascontiguousarray(p, dtype=np.float64).copy()
+        self.p = np.array(p, dtype=STATE_DTYPE)
         if self.p.shape != theta.shape:
             raise ValueError(f"theta {theta.shape} and p {self.p.shape} differ in shape")
-        self.S, self.C = sincos_wrapped_array(theta)
+        self.S, self.C = (a.astype(STATE_DTYPE) for a in sincos_wrapped_array(theta))
 
     @property
     def theta(self):
