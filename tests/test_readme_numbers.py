@@ -374,6 +374,19 @@ CLAIMS = [
         "20 realisations: <dphi^2>(lag) = 1.77e-05 (10), 1.70e-03 (100), 1.53e-02 (300), 4.22e-02",
         "1.7e-3 at lag 100, 4.2e-2 at 500 for N = 5e5",
     ),
+    # the float32 MD against the float64 kernel, paired (studies/float32_trust.py; 2026-11-27)
+    (
+        "float32_trust.txt",
+        "pooled, MD(bath): 112 bins, relative difference +4.09e-06 +- 2.0e-06",
+        "agrees to 1e-5 (pooled relative difference +4.09e-06 +- 2.0e-06)",
+    ),
+    (
+        "float32_trust.txt",
+        "pooled, MD(full): 112 bins, relative difference -2.97e-04 +- 2.5e-04, mean z^2 0.83, "
+        "|z| > 3: 0",
+        "-2.97e-04 +- 2.5e-04 pooled over its 112 bins, mean z^2 of the paired differences 0.83, "
+        "none beyond |z| = 3",
+    ),
     # the u = 0.2475 MD(full) residual (studies/separatrix_bins.py spectrum, blocks; 2026-11-27)
     (
         "separatrix_spectrum_u0.2475.txt",

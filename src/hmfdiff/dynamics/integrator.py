@@ -63,7 +63,10 @@ __all__ = [
     "advance_in_field",
 ]
 
-INTEGRATOR = "velocity Verlet (kick-drift-kick leapfrog), 2nd order, symplectic"
+INTEGRATOR = (
+    "velocity Verlet (kick-drift-kick leapfrog), 2nd order, symplectic; state (p, sin theta, "
+    "cos theta) and steps in float32, magnetisation, energy and actions formed in float64"
+)
 
 #: the floating-point type of the particles' state (p, sin theta, cos theta) and of the steps'
 #: arithmetic; magnetisation, energy and actions are computed from it in float64
