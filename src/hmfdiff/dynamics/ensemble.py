@@ -24,7 +24,6 @@ each realisation's own |M| ('hist_own') and with the initial state's static M0
 
 from __future__ import annotations
 
-import math
 import sys
 import time as _time
 
@@ -34,7 +33,7 @@ from numba import njit, prange
 
 from . import sampling
 from .elementary import _CHUNK, _FM, angles, frame_actions, sincos_wrapped_array
-from .integrator import _BOUND_REFRESH, STATE_DTYPE, _chunk_advance
+from .integrator import _BOUND_REFRESH, STATE_DTYPE, _chunk_advance, _kick
 
 __all__ = ["ACTION_MEASURES", "Ensemble", "measurement_times", "run_ensemble"]
 
@@ -48,8 +47,8 @@ ACTION_MEASURES = ("", "_own", "_static")
 def _ensemble_steps(p, S, C, M, n_steps, dt):
     """n_steps velocity-Verlet steps of every realisation (rows of p, S = sin theta,
     C = cos theta), in place; M[r] = (Mx, My) of realisation r on entry and on exit.  p is
-    synchronised with the angles on exit (a last half kick, which also divides (S, C) by its
-    norm, as `integrator`'s closing kick does)."""
+    synchronised with the angles on exit (a last half kick, `integrator._kick` itself, which
+    also divides (S, C) by its norm)."""
     R, N = p.shape
     h = 0.5 * dt
     n_chunks = (N + _CHUNK - 1) // _CHUNK
@@ -75,13 +74,7 @@ def _ensemble_steps(p, S, C, M, n_steps, dt):
             fx = tc / N
             fy = ts / N
             kick = dt
-        for i in range(N):  # in float64, as `integrator._kick`
-            s = np.float64(S[r, i])
-            c = np.float64(C[r, i])
-            p[r, i] = np.float64(p[r, i]) + h * (fy * c - fx * s)
-            norm = 1.0 / math.sqrt(s * s + c * c)
-            S[r, i] = s * norm
-            C[r, i] = c * norm
+        _kick(p[r], S[r], C[r], h, fx, fy)  # the single-system kernel's closing half kick
         M[r, 0] = fx
         M[r, 1] = fy
 
