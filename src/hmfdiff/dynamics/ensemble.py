@@ -4,11 +4,11 @@ R realisations of N interacting particles are advanced together, each in its own
 self-consistent magnetisation.  One kernel call advances every realisation by many steps:
 realisations are independent, so the parallel loop runs over them and each one is integrated
 to the end of the interval while its N particles sit in cache (N = 500 ... 8000 particles are
-32-256 kB).  The arithmetic of one realisation is that of the single-system kernel
+6-96 kB in float32).  The arithmetic of one realisation is that of the single-system kernel
 (`integrator`): the same fused velocity-Verlet step (`integrator._chunk_step`), the same
 chunked reduction of the magnetisation in the same order and the same per-chunk choice of the
-drift's sincos, so a realisation follows the
-single-system integration to rounding, and the result does not depend on the thread count.
+drift's sincos and the same closing half kick (`integrator._kick`), so a realisation follows
+the single-system integration to the bit, and the result does not depend on the thread count.
 
 Measurements, at times given by a schedule (`measurement_times`: dense early, sparse late):
 |M|, the direction of M, the energy and the momentum per particle of each realisation, and the

@@ -11,22 +11,24 @@ at dt = 0.05 for |p| < 4; up to |d| <= `elementary.DRIFT_MAX` longer ones; a chu
 momenta may exceed that, by a bound on |p| kept per chunk, takes the general half-angle sincos
 of the wrapped d).
 
-The state (p, S, C) and the steps' arithmetic are float32 (`STATE_DTYPE`): about 12 floating-
-point operations and 12 bytes per particle and step, twice as many particles per vector
-instruction as float64 (x2.1-2.3 in `benchmarks/bench_md.py`).  What that costs: p and the
+The state (p, S, C) and the steps' arithmetic are float32 (`STATE_DTYPE`): on the short path
+about 18 floating-point operations (a fused multiply-add counted once) and 12 bytes per
+particle and step, twice as many particles per vector instruction as float64
+(`benchmarks/bench_md.py` on 2026-11-27: x2.0 on 2 threads and x2.5 per CPU second on one
+against the float64 kernel it replaced, two runs an hour apart). What that costs: p and the
 angle are held to 6e-8 relative and absolute, the drift angle of each step is rounded to
 float32 (a relative frequency error below 1e-7), the rotation's rounding changes the norm of
-(S, C) by up to ~6e-8 a step (divided out every `_BOUND_REFRESH` steps and by each closing
-half kick), and the total momentum, conserved exactly in exact arithmetic, walks by the
-kicks' rounding, ~1e-7 / sqrt(12 N) a step.  All of it is far below the O(N^-1/2) fluctuations
-the MD measures (the magnetisation's ~1e-3 at N = 5e5; an action's rms change over the fit
-window ~1e-3); the trust study is in the README ("MD in float32").  The magnetisation, the
-energy, the momentum and the actions are formed in float64 from the float32 state; the sums of
-cos and sin over a chunk within a step are float32 (their rounding, ~1e-8 on the magnetisation
-of 5e5 particles).  The closing half kick is computed in float64 and also divides (S, C) by its
-norm.  The angles, where needed (`Particles.theta`), are atan2(S, C).  Reductions are
-deterministic: particles are cut into a fixed number of chunks (independent of the thread
-count) whose partial sums are combined in order.
+(S, C) by up to ~6e-8 a step (divided out every `_BOUND_REFRESH` steps and by each closing half
+kick), and the total momentum, conserved exactly in exact arithmetic, walks by the kicks'
+rounding, ~1e-7 / sqrt(12 N) a step. All of it is far below the O(N^-1/2) fluctuations the MD
+measures (the magnetisation's ~1e-3 at N = 5e5; an action's rms change over the fit window
+~1e-3); the trust study is in the README ("MD in float32"). The magnetisation, the energy, the
+momentum and the actions are formed in float64 from the float32 state; the sums of cos and sin
+over a chunk within a step are float32 (their rounding, ~1e-8 on the magnetisation of 5e5
+particles). The closing half kick is computed in float64 and also divides (S, C) by its norm.
+The angles, where needed (`Particles.theta`), are atan2(S, C). Reductions are deterministic:
+particles are cut into a fixed number of chunks (independent of the thread count) whose partial
+sums are combined in order.
 """
 
 from __future__ import annotations
