@@ -125,9 +125,12 @@ def test_frame_actions_agree_with_actions_of_angles():
 )
 def test_one_drift_is_the_exact_rotation_on_each_taylor_path(p, path):
     """One step in no field rotates (sin theta, cos theta) by d = `drift32(dt, p)`: against the
-    rotation in 40-digit arithmetic, to float32's rounding (within one ulp of 1, 1.2e-7;
-    measured 8e-8), on the path the chunk's bound picks.  A path taken beyond its domain (the
-    short polynomial at |d| = 0.47 errs by 1.4e-6) fails here."""
+    rotation in 40-digit arithmetic, to float32's rounding, on the path the chunk's bound
+    picks.  The bound is that of the float32 rotation S cos d + C sin d itself: sin d and
+    cos d each within one half-ulp u = 2^-24 relative, two products and a sum each rounded,
+    |S| + |C| <= sqrt(2): at most (1 + 2 sqrt(2)) u = 2.3e-7, whether or not the compiler fuses
+    a product into an FMA (measured 8e-8 on one CPU, 1.4e-7 on a Rocket Lake, 2026-11-27).  A
+    path taken beyond its domain (the short polynomial at |d| = 0.47 errs by 1.4e-6) fails."""
     p = np.array(p)
     dt = 0.05
     bound = float(np.sum(p**8) ** 0.125) * dt
@@ -142,7 +145,7 @@ def test_one_drift_is_the_exact_rotation_on_each_taylor_path(p, path):
         s = mpmath.mpf(float(S0[i])) * mpmath.cos(d) + mpmath.mpf(float(C0[i])) * mpmath.sin(d)
         c = mpmath.mpf(float(C0[i])) * mpmath.cos(d) - mpmath.mpf(float(S0[i])) * mpmath.sin(d)
         err = max(abs(float(P.S[i]) - float(s)), abs(float(P.C[i]) - float(c)))
-        assert err < 2 * HALF_ULP, (i, path, err)
+        assert err < (1 + 2 * np.sqrt(2)) * HALF_ULP, (i, path, err)
 
 
 def accelerated_reference(theta0, p0, F, dt, n):
