@@ -95,6 +95,28 @@ def test_actions_of_phase_points(state):
     assert np.max(np.abs(J / orbits.action(p / (2 * np.sqrt(M0)), M0) - 1)) < 1e-13
 
 
+def test_frame_actions_read_float32_state_in_place_at_an_index():
+    """frame_actions on the MD's float32 (sin, cos, p) at an index of tracked particles (read
+    in place) equals the same points gathered and widened to float64 first, bit for bit, in
+    the index's order; and agrees with orbits.action to the float32 rounding of the points."""
+    rng = np.random.default_rng(8)
+    n = 5000
+    kappa = np.concatenate([rng.uniform(0.01, 0.99, n // 2), rng.uniform(1.01, 3.0, n // 2)])
+    th, p = orbits.phase_point(rng.uniform(0, 2 * np.pi, n), kappa, M0, 1.0)
+    S, C, P = (np.asarray(a, dtype=np.float32) for a in (np.sin(th), np.cos(th), p))
+    idx = rng.permutation(n)[: n // 3]  # unsorted: the output follows the index
+    J, Jb = elementary.frame_actions(S, C, P, M0, 0.4, index=idx)
+    wide = [a[idx].astype(np.float64) for a in (S, C, P)]
+    Jw, Jbw = elementary.frame_actions(*wide, M0, 0.4)
+    np.testing.assert_array_equal(J, Jw)
+    np.testing.assert_array_equal(Jb, Jbw)
+    th32 = np.arctan2(S[idx].astype(float), C[idx].astype(float))
+    Jref = elementary.actions(th32, P[idx].astype(float), M0, phase=0.4)[0]
+    np.testing.assert_allclose(J, Jref, rtol=1e-12)
+    with pytest.raises(IndexError, match="index must lie in"):
+        elementary.frame_actions(S, C, P, M0, index=[0, n])
+
+
 # ------------------------------------------------------------------ integrator
 def test_full_dynamics_conserves_energy_and_momentum(state):
     """H/N and sum p of the full HMF dynamics (eq. hmfmdfull); the energy error of the

@@ -264,7 +264,9 @@ def _agm_actions(k2, sqrtM0, J, Jbar):
             c2[i] = cn * cn
             S[i] += w * c2[i]
             tot += c2[i]
-        if tot < 1e-36:  # every c_n < 1e-18 < 1e-16 a_n (a_n > 0.07 for k' >= 1e-8): converged
+        # every c_n < 1e-10: a_n is the AGM to c_{n+1} ~ c_n^2/(4 a) < 1e-18 relative (a_n > 0.07
+        # for k' >= 1e-8) and the omitted terms 2^n c_{n+1}^2 of S are < 1e-35: converged
+        if tot < 1e-20:
             break
     for i in range(n):
         q = k2[i]
@@ -295,14 +297,16 @@ def _chunk_phase_actions(theta, p, phase, M0, J, Jbar):
 
 
 @njit(fastmath=_FM)
-def _chunk_frame_actions(S, C, p, cphi, sphi, M0, J, Jbar):
-    """(J, J-bar) of a chunk of phase points given by sin theta, cos theta and p, in the frame
-    rotated by the angle phi (cos phi, sin phi): x = theta - phi, cos x = C cos phi + S sin phi,
+def _chunk_frame_actions(S, C, p, index, cphi, sphi, M0, J, Jbar):
+    """(J, J-bar) of the phase points index[k] (a chunk) given by sin theta, cos theta and p
+    (float32 or float64, read in place: arithmetic in float64), in the frame rotated by the
+    angle phi (cos phi, sin phi): x = theta - phi, cos x = C cos phi + S sin phi,
     sin x = S cos phi - C sin phi, both divided by the norm of (S, C)."""
-    n = p.size
+    n = index.size
     inv4M0 = 1.0 / (4.0 * M0)
     k2 = np.empty(n)
-    for i in range(n):
+    for k in range(n):
+        i = index[k]
         c = C[i] * cphi + S[i] * sphi
         s = S[i] * cphi - C[i] * sphi
         r2 = c * c + s * s
@@ -310,29 +314,42 @@ def _chunk_frame_actions(S, C, p, cphi, sphi, M0, J, Jbar):
         # sin^2(x/2) = (1 - cos x)/2, or sin^2 x / (2 (1 + cos x)) where cos x > 0: no
         # cancellation on either side (deeply trapped orbits have x ~ 0)
         half = (r2 - cr) / (2.0 * r2) if c <= 0.0 else s * s / (2.0 * (r2 + cr))
-        k2[i] = p[i] * p[i] * inv4M0 + half
+        pi = np.float64(p[i])
+        k2[k] = pi * pi * inv4M0 + half
     _agm_actions(k2, math.sqrt(M0), J, Jbar)
 
 
 @njit(parallel=True)
-def _frame_actions_kernel(S, C, p, cphi, sphi, M0, J, Jbar):
-    n = p.size
+def _frame_actions_kernel(S, C, p, index, cphi, sphi, M0, J, Jbar):
+    n = index.size
     n_chunks = (n + _CHUNK - 1) // _CHUNK
     for ch in prange(n_chunks):
         lo = ch * _CHUNK
         hi = min(lo + _CHUNK, n)
-        _chunk_frame_actions(S[lo:hi], C[lo:hi], p[lo:hi], cphi, sphi, M0, J[lo:hi], Jbar[lo:hi])
+        _chunk_frame_actions(S, C, p, index[lo:hi], cphi, sphi, M0, J[lo:hi], Jbar[lo:hi])
 
 
-def frame_actions(S, C, p, M0, phase=0.0, out=None):
+def frame_actions(S, C, p, M0, phase=0.0, out=None, index=None):
     """(J, J-bar) of phase-space points given by (sin theta, cos theta, p), in the frame rotated
     by `phase` (numba, parallel): what the MD measures, whose particles carry sin and cos of
-    their angles rather than the angles.  Agrees with `actions` to rounding."""
-    S, C, p = (np.ascontiguousarray(a, dtype=np.float64) for a in (S, C, p))
+    their angles rather than the angles.  Agrees with `actions` to rounding.
+
+    index: the points to evaluate, in this order (default: all); S, C, p are read in place
+    (float32, the MD's state, or float64; no copy): the MD's tracked subset costs no gather."""
+    dtype = np.float32 if all(np.asarray(a).dtype == np.float32 for a in (S, C, p)) else np.float64
+    S, C, p = (np.ascontiguousarray(a, dtype=dtype).ravel() for a in (S, C, p))
+    if index is None:
+        index = np.arange(p.size, dtype=np.int64)
+    else:
+        index = np.ascontiguousarray(index, dtype=np.int64)
+        if index.size and not (0 <= index.min() and index.max() < p.size):
+            raise IndexError(f"index must lie in [0, {p.size})")
     if out is None:
-        out = (np.empty_like(p), np.empty_like(p))
+        out = (np.empty(index.size), np.empty(index.size))
     phase = float(phase)
-    _frame_actions_kernel(S, C, p, math.cos(phase), math.sin(phase), float(M0), out[0], out[1])
+    _frame_actions_kernel(
+        S, C, p, index, math.cos(phase), math.sin(phase), float(M0), out[0], out[1]
+    )
     return out
 
 

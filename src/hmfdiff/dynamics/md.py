@@ -143,7 +143,6 @@ def run_md(
     rng = sampling.make_rng(seed, member)
     bath, test, phase0 = _initial_conditions(state, run, rng)
     track = _tracked_subset(run, rng)
-    all_tracked = track.size == len(bath)
     edges = run.jbar_edges(M0)
     n_sub, n_samp = run.steps_per_sample, run.n_samples
     n_track = run.n_tracked
@@ -225,11 +224,7 @@ def run_md(
                 ts["energy"][s] = 0.5 * mom[3] - M0 * mom[0]
         phase = math.atan2(ts["My"][s], ts["Mx"][s]) if full else 0.0
         if full:
-            if all_tracked:
-                sc_f = (bath.S, bath.C, bath.p)
-            else:
-                sc_f = (bath.S[track], bath.C[track], bath.p[track])
-            frame_actions(*sc_f, M0, phase, (J[:n_f], Jb[:n_f]))
+            frame_actions(bath.S, bath.C, bath.p, M0, phase, (J[:n_f], Jb[:n_f]), track)
         if run.n_test:
             frame_actions(test.S, test.C, test.p, M0, phase, (J[n_f:], Jb[n_f:]))
         th_st = angles(
