@@ -319,6 +319,25 @@ def test_accumulator_random_walk_librating():
     assert np.all(acc.acc[3].sum(axis=(0, 2)) == n * n_orig)
 
 
+def test_accumulator_refuses_negative_actions_and_inconsistent_jbar():
+    """The accumulator holds each action signed by its librating flag (J-bar = J/2): a negative
+    J, or a J-bar that is neither J nor J/2, would be read wrongly, so it stops with the
+    sample's index; NaN (a particle lost) stays NaN and falls in no bin."""
+    edges = [0.0, 1.0, 2.0]
+    J = np.array([0.5, 1.2, 1.6, np.nan])
+    negative = np.array([0.5, -1.2, 1.6, np.nan])
+    neither = np.array([0.5, 0.84, 1.6, np.nan])  # J-bar 0.7 J
+    for Jt, Jbt in ((negative, negative), (J, neither)):
+        acc = accumulator.DisplacementAccumulator(4, edges, 12, 6, 3, 2)
+        acc.add(0, J, J)
+        with pytest.raises(ValueError, match="sample 1: 1 particles with J < 0 or J-bar"):
+            acc.add(1, Jt, Jbt)
+    acc = accumulator.DisplacementAccumulator(4, edges, 12, 6, 3, 2)
+    for s in range(12):
+        acc.add(s, J, np.array([0.25, 1.2, 1.6, np.nan]))
+    np.testing.assert_array_equal(acc.n_particles_in_bin, [1, 2])
+
+
 # ------------------------------------------------------------------ driver
 # bins of J-bar_0: 6 uniform bins over [0, 1.5] (kappa_max is the orbit with J-bar = 1.5)
 RUN = dict(

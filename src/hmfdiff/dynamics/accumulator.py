@@ -9,6 +9,8 @@ contiguous blocks for error estimates.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import prange
 
@@ -19,17 +21,24 @@ __all__ = ["DisplacementAccumulator"]
 
 
 @njit(fastmath=_FM)
-def _bin_sums(J, Jbar, idx, J0, lib0):
-    """sum (J - J0)^2, sum (Jbar - Jbar0)^2, sum (J - J0) over the particles idx of one bin
-    (J0, lib0 their values at the origin, in the same order; Jbar0 = J0/2 if librating)."""
+def _bin_sums(Js, idx, J0s):
+    """sum (J - J0)^2, sum (Jbar - Jbar0)^2, sum (J - J0) over the particles idx of one bin.
+
+    Actions are held signed: Js = -J on librating orbits (where J-bar = J/2), +J on rotating
+    ones, so that one gathered number gives both J and J-bar; J0s the same at the origin, in
+    the order of idx."""
     s2 = 0.0
     sb2 = 0.0
     s1 = 0.0
     for k in range(idx.size):
-        i = idx[k]
-        j0 = J0[k]
-        d = J[i] - j0
-        db = Jbar[i] - j0 * (1.0 - 0.5 * lib0[k])
+        js = Js[idx[k]]
+        j = abs(js)
+        jb = 0.5 * j if js < 0.0 else j
+        j0s = J0s[k]
+        j0 = abs(j0s)
+        jb0 = 0.5 * j0 if j0s < 0.0 else j0
+        d = j - j0
+        db = jb - jb0
         s2 += d * d
         sb2 += db * db
         s1 += d
@@ -37,11 +46,11 @@ def _bin_sums(J, Jbar, idx, J0, lib0):
 
 
 @njit(parallel=True)
-def _accumulate_kernel(J, Jbar, slots, lags, blocks, idx, J0, lib0, seg, acc):
+def _accumulate_kernel(Js, slots, lags, blocks, idx, J0s, seg, acc):
     """For each active origin a (slot slots[a], lag lags[a], block blocks[a]) add, per bin b,
     the sums over its particles of (J - J0)^2, (Jbar - Jbar0)^2, J - J0 and their number into
     acc[:, b, lag, block].  The slot holds its particles sorted by bin: idx[slot, seg[slot, b]:
-    seg[slot, b + 1]] are the indices of bin b, J0 and lib0 in the same order, so each bin is one
+    seg[slot, b + 1]] are the indices of bin b, J0s in the same order, so each bin is one
     contiguous pass with its sums in registers (no scatter into acc per particle).
 
     Active origins have distinct lags, so the prange over origins never writes one cell twice;
@@ -54,7 +63,7 @@ def _accumulate_kernel(J, Jbar, slots, lags, blocks, idx, J0, lib0, seg, acc):
         for b in range(n_bins):
             lo = seg[sl, b]
             hi = seg[sl, b + 1]
-            s2, sb2, s1 = _bin_sums(J, Jbar, idx[sl, lo:hi], J0[sl, lo:hi], lib0[sl, lo:hi])
+            s2, sb2, s1 = _bin_sums(Js, idx[sl, lo:hi], J0s[sl, lo:hi])
             acc[0, b, L, B] += s2
             acc[1, b, L, B] += sb2
             acc[2, b, L, B] += s1
@@ -80,15 +89,16 @@ def _bin_of(x, edges):
 
 
 @njit
-def _fill_slot(J, Jbar, edges, idx, J0, lib0, seg, seen):
-    """One origin's slot: the particles that lie in a bin, sorted by bin by a counting sort
-    (stable: index order within a bin), with their J and librating flag (J-bar = J/2); seg[b]
-    where bin b starts.  Marks seen[i, b] for each."""
+def _fill_slot(Js, edges, idx, J0s, seg, seen):
+    """One origin's slot: the particles that lie in a bin of J-bar, sorted by bin by a counting
+    sort (stable: index order within a bin), with their signed action Js; seg[b] where bin b
+    starts.  Marks seen[i, b] for each."""
     n_bins = edges.size - 1
-    bins = np.empty(J.size, dtype=np.int64)
+    bins = np.empty(Js.size, dtype=np.int64)
     count = np.zeros(n_bins + 1, dtype=np.int64)
-    for i in range(J.size):
-        b = _bin_of(Jbar[i], edges)
+    for i in range(Js.size):
+        jb = 0.5 * abs(Js[i]) if Js[i] < 0.0 else abs(Js[i])
+        b = _bin_of(jb, edges)
         bins[i] = b
         if b >= 0:
             count[b + 1] += 1
@@ -97,20 +107,29 @@ def _fill_slot(J, Jbar, edges, idx, J0, lib0, seg, seen):
     for b in range(n_bins):
         seg[b + 1] = seg[b] + count[b + 1]
     fill = seg[:n_bins].copy()
-    for i in range(J.size):
+    for i in range(Js.size):
         b = bins[i]
         if b >= 0:
             k = fill[b]
             idx[k] = i
-            J0[k] = J[i]
-            lib0[k] = Jbar[i] != J[i]
+            J0s[k] = Js[i]
             fill[b] = k + 1
 
 
 @njit
-def _permute(x, order, out):
-    for i in range(order.size):
-        out[i] = x[order[i]]
+def _signed_actions(J, Jbar, order, out):
+    """out[k] = the signed action of particle order[k]: -J where J-bar = J/2 != J (librating),
+    J where J-bar = J.  Returns the number of particles with J < 0 or J-bar neither J nor J/2
+    (NaN excepted: it stays NaN and falls in no bin)."""
+    bad = 0
+    for k in range(order.size):
+        j = J[order[k]]
+        jb = Jbar[order[k]]
+        lib = jb != j
+        out[k] = -j if lib else j
+        if j < 0.0 or (lib and jb != 0.5 * j and not (math.isnan(j) and math.isnan(jb))):
+            bad += 1
+    return bad
 
 
 class DisplacementAccumulator:
@@ -120,8 +139,8 @@ class DisplacementAccumulator:
     with `add(s, J, Jbar)`.  An origin starts at every s that is a multiple of `origin_every`
     (in samples) while s + max_lag <= n_samples - 1, so every lag sees the same origins.  J(t0)
     is kept in a ring buffer of max_lag // origin_every + 1 slots (per slot, the particles that
-    lie in a bin, sorted by bin: an int32 index, float64 J and a librating flag each).
-    Lags are 0 ... max_lag samples.
+    lie in a bin, sorted by bin: an int32 index and J as a float64 whose sign is the librating
+    flag, 12 bytes each).  Lags are 0 ... max_lag samples.  J >= 0; J-bar is J or J/2.
     """
 
     def __init__(self, n_track, jbar_edges, n_samples, max_lag, origin_every, n_blocks):
@@ -145,8 +164,7 @@ class DisplacementAccumulator:
         # per slot, the particles in a bin sorted by bin (stable: index order within a bin):
         # their indices, J(t0), librating flag; seg[slot, b] where bin b starts
         self.idx = np.zeros((self.n_slots, self.n_track), dtype=np.int32)
-        self.J0 = np.zeros((self.n_slots, self.n_track))
-        self.lib0 = np.zeros((self.n_slots, self.n_track), dtype=np.uint8)
+        self.J0s = np.zeros((self.n_slots, self.n_track))
         self.seg = np.zeros((self.n_slots, self.n_bins + 1), dtype=np.int64)
         self.acc = np.zeros((4, self.n_bins, self.max_lag + 1, self.n_blocks))
         self.seen = np.zeros((self.n_track, self.n_bins), dtype=np.uint8)
@@ -155,8 +173,7 @@ class DisplacementAccumulator:
         # particles at a later origin then lie close together in memory (diffusion is slow),
         # and the kernel reads J, J-bar almost sequentially instead of scattered
         self.order = None
-        self._J = np.zeros(self.n_track)
-        self._Jbar = np.zeros(self.n_track)
+        self._Js = np.zeros(self.n_track)
 
     def block_of(self, origin):
         return origin * self.n_blocks // self.n_origins
@@ -183,25 +200,24 @@ class DisplacementAccumulator:
         """Record the actions at sample index s (called for s = 0, 1, ... in order)."""
         if self.order is None:
             self.order = np.argsort(Jbar, kind="stable")
-        _permute(np.ascontiguousarray(J, dtype=np.float64), self.order, self._J)
-        _permute(np.ascontiguousarray(Jbar, dtype=np.float64), self.order, self._Jbar)
-        J, Jbar = self._J, self._Jbar
+        bad = _signed_actions(
+            np.ascontiguousarray(J, dtype=np.float64),
+            np.ascontiguousarray(Jbar, dtype=np.float64),
+            self.order,
+            self._Js,
+        )
+        if bad:
+            raise ValueError(
+                f"sample {s}: {bad} particles with J < 0 or J-bar neither J nor J/2 (actions "
+                "are >= 0; J-bar = J/2 on librating orbits)"
+            )
         sl = self.origin_at(s)
         if sl is not None:
-            _fill_slot(
-                J,
-                Jbar,
-                self.edges,
-                self.idx[sl],
-                self.J0[sl],
-                self.lib0[sl],
-                self.seg[sl],
-                self.seen,
-            )
+            _fill_slot(self._Js, self.edges, self.idx[sl], self.J0s[sl], self.seg[sl], self.seen)
         slots, lags, blocks = self.active_origins(s)
         if slots.size:
             _accumulate_kernel(
-                J, Jbar, slots, lags, blocks, self.idx, self.J0, self.lib0, self.seg, self.acc
+                self._Js, slots, lags, blocks, self.idx, self.J0s, self.seg, self.acc
             )
 
     @property
