@@ -25,11 +25,11 @@ between one step and two half steps, relative to max f, is kept below `rtol`.
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse import linalg as sparse_linalg
+from scipy import linalg
 
 from .collision import CollisionOperator, geometry, resonance_events
 from .dielectric import DielectricTensor
@@ -121,11 +121,15 @@ def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
         f = np.exp(y)
         scale = 1.0 / (vol * f)  # rows relative to each node's mass: well conditioned
         r = vol * f - m0 - dt * op.rate(y)
-        Jm = sparse.eye(y.size) - dt * (sparse.diags(scale) @ op.jacobian(y))
-        try:
-            d = sparse_linalg.splu(Jm.tocsc()).solve(-scale * r)
-        except RuntimeError:  # exactly singular
+        # dense LU: the collision operator couples every node to its resonant partners (~12 %
+        # of the matrix filled at 600 nodes), where LAPACK factorises 4x faster than SuperLU
+        Jm = np.eye(y.size) - dt * (scale[:, None] * op.jacobian(y).toarray())
+        with warnings.catch_warnings():  # an exactly singular matrix is reported below
+            warnings.simplefilter("ignore", linalg.LinAlgWarning)
+            lu, piv = linalg.lu_factor(Jm, check_finite=False)
+        if not np.all(np.diag(lu) != 0.0):  # exactly singular
             return y, False
+        d = linalg.lu_solve((lu, piv), -scale * r, check_finite=False)
         if not np.all(np.isfinite(d)):
             return y, False
         step = min(1.0, 2.0 / max(np.max(np.abs(d)), 1e-300))
