@@ -214,3 +214,19 @@ def test_homogeneous_limit():
     cc, ss = dielectric_tensor(st, om, l_max=12)
     assert np.abs(cc - hom).max() < 5e-4
     assert np.abs(ss - hom).max() < 5e-4
+
+
+def test_frequency_exactly_on_a_quadrature_node(thermal):
+    """omega = l Omega_j for a node Omega_j of the quadrature (so that omega / l hits it
+    exactly) drops that node's 1/(Omega - omega / l) term instead of making eps infinite or
+    NaN: eps there lies between its values a hair to either side, to the size of one node's
+    term."""
+    tensor = DielectricTensor(thermal)
+    Om = tensor._nodes[0][0]
+    node = float(Om[Om.size // 3])
+    l = 2
+    assert (l * node) / l == node  # the division in the tensor gives the node back exactly
+    eps = np.array(tensor(np.array([l * node * (1 - 1e-9), l * node, l * node * (1 + 1e-9)])))
+    assert np.all(np.isfinite(eps))
+    for comp in eps:
+        assert abs(comp[1] - 0.5 * (comp[0] + comp[2])) < 1e-2 * abs(comp[1])

@@ -167,22 +167,24 @@ class DielectricTensor:
     def _branch_term(self, x0, sgn, Om, w, Gcc, Gss, A, branch, l):
         """int_0^A G/(Omega - x0 - i0 sgn) dOmega for every x0, both components."""
         pole = (x0 > 0.0) & (x0 < A)
+        R = np.subtract(Om[None, :], x0[:, None])
         with np.errstate(divide="ignore"):
-            R = 1.0 / (Om[None, :] - x0[:, None])
+            np.divide(1.0, R, out=R)  # in place: one array of n_omega x n_nodes, not three
         # a frequency exactly on a node (measure zero) drops that node's term, an error of
-        # order w_j G'(x0)
-        bad = ~np.isfinite(R)
-        if np.any(bad):
-            R[bad] = 0.0
-        out = []
+        # order w_j G'(x0); the nodes increase, so such hits are found by bisection
+        j = np.minimum(np.searchsorted(Om, x0), Om.size - 1)
+        hit = np.flatnonzero(Om[j] == x0)
+        R[hit, j[hit]] = 0.0
         kp = np.full(x0.shape, np.nan)
         if np.any(pole):
             kp[pole] = self._kappa_of(x0[pole], branch)
-        sumw = R @ w
+        # the three quadratures in one pass over R: sum w R, sum w G_cc R, sum w G_ss R
+        sumw, tcc, tss = (R @ np.column_stack([w, w * Gcc, w * Gss])).T
         with np.errstate(divide="ignore", invalid="ignore"):
             logt = np.where(pole, np.log(np.abs(A - x0) / np.abs(x0)), 0.0)
-        for comp, G in (("cc", Gcc), ("ss", Gss)):
-            t = (R @ (w * G)).astype(complex)
+        out = []
+        for comp, t in (("cc", tcc), ("ss", tss)):
+            t = t.astype(complex)
             if np.any(pole):
                 G0 = np.zeros(x0.shape)
                 G0[pole] = pole_density(self.state, kp[pole], l, comp)
