@@ -18,6 +18,8 @@ rule kernels:
         "../scripts/kernels.py"
 
 
+# priorities: the long jobs (MD blocks, relaxations) start first, so that the short ones (fits,
+# figures) fill both cores at the end instead of one MD block running alone
 rule md:
     """A block of MD realisations (seeds {first} ... {last}) of MD(bath) or MD(full), with
     <dJ^2> accumulated on the fly: one seed{s}.nc per seed in the block's folder.
@@ -34,6 +36,7 @@ rule md:
         dynamics="bath|full",
         first=r"\d+",
         last=r"\d+",
+    priority: 3
     conda:
         "../envs/hmfdiff.yaml"
     threads: lambda w: md_run(w.case, w.dynamics).threads
@@ -175,6 +178,7 @@ rule md_scaling:
     wildcard_constraints:
         dynamics="bath|full",
         n=r"\d+",
+    priority: 1
     conda:
         "../envs/hmfdiff.yaml"
     threads: lambda w: scaling_run(w.case, w.dynamics, w.n).threads

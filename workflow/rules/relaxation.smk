@@ -9,6 +9,7 @@ rule relaxation:
         f"{LOG}/relaxation/{{case}}_{{equation}}.log",
     wildcard_constraints:
         equation="landau|lenard_balescu",
+    priority: 2
     conda:
         "../envs/hmfdiff.yaml"
     threads: 1

@@ -9,6 +9,7 @@ rule relaxation_md:
         f"{LOG}/relaxation_md/{{case}}/N{{n}}.log",
     wildcard_constraints:
         n=r"\d+",
+    priority: 2
     conda:
         "../envs/hmfdiff.yaml"
     threads: lambda w: config["relaxation_md"]["threads"]
@@ -34,6 +35,7 @@ rule relaxation_md_control:
         f"{LOG}/relaxation_md/{{case}}/thermal/N{{n}}.log",
     wildcard_constraints:
         n=r"\d+",
+    priority: 2
     conda:
         "../envs/hmfdiff.yaml"
     threads: lambda w: config["relaxation_md"]["threads"]
@@ -82,6 +84,7 @@ rule relaxation_rates_md:
     wildcard_constraints:
         n=r"\d+",
         initial="|".join(INITIALS),
+    priority: 2
     conda:
         "../envs/hmfdiff.yaml"
     threads: lambda w: config["relaxation_md"]["threads"]
