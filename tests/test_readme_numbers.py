@@ -387,6 +387,49 @@ CLAIMS = [
         "-2.97e-04 +- 2.5e-04 pooled over its 112 bins, mean z^2 of the paired differences 0.83, "
         "none beyond |z| = 3",
     ),
+    # from-empty reproductions of 2026-11-27 afternoon (job_seconds.py and /usr/bin/time)
+    (
+        "from_empty_2026-11-27.txt",
+        "Elapsed (wall clock) time (h:mm:ss or m:ss): 19:56.19",
+        "**19 min 56 s** wall",
+    ),
+    (
+        "from_empty_2026-11-27.txt",
+        "total                      183     2381",
+        "183 jobs, 2381 job-seconds",
+    ),
+    (
+        "from_empty_2026-11-27.txt",
+        "md                          30     1469",
+        "md 1469 job-s (30 jobs",
+    ),
+    ("from_empty_2026-11-27.txt", "(kbytes): 585856", "peak memory of any process 0.59 GB"),
+    ("from_empty_2026-11-27.txt", "idle core-seconds 3\n", "(3 core-seconds idle in all)"),
+    (
+        "from_empty_2026-11-27.txt",
+        "time (h:mm:ss or m:ss): 22:25.01",
+        "f06ac83 (the float32 MD) 22 min 25 s",
+    ),
+    (
+        "from_empty_2026-11-27.txt",
+        "total                      216     2678",
+        "216 jobs, 2678 job-s",
+    ),
+    ("from_empty_2026-11-27.txt", "time (h:mm:ss or m:ss): 20:27.36", "20 min 27 s, 2444 job-s"),
+    (
+        "from_empty_2026-11-27.txt",
+        "total                      183     2444",
+        "20 min 27 s, 2444 job-s",
+    ),
+    ("from_empty_2026-11-27.txt", "time (h:mm:ss or m:ss): 20:49.44", "20 min 49 s, 2438 job-s"),
+    (
+        "from_empty_2026-11-27.txt",
+        "total                      183     2438",
+        "20 min 49 s, 2438 job-s",
+    ),
+    ("suite_2026-11-27.txt", "720 passed in 471.06s (0:07:51)", "720 passed in 7 min 51 s"),
+    ("suite_2026-11-27.txt", "121.20s setup", "smoke build (121 s)"),
+    ("suite_2026-11-27.txt", "70.66s call     tests/test_slurm.py", "Slurm runs (71 s and 61 s"),
     # the u = 0.2475 MD(full) residual (studies/separatrix_bins.py spectrum, blocks; 2026-11-27)
     (
         "separatrix_spectrum_u0.2475.txt",
