@@ -21,6 +21,13 @@ __all__ = ["DisplacementAccumulator"]
 
 
 @njit(fastmath=_FM)
+def _unsigned(js):
+    """(J, J-bar) of a signed action: js = -J on librating orbits (J-bar = J/2), +J else."""
+    j = abs(js)
+    return j, 0.5 * j if js < 0.0 else j
+
+
+@njit(fastmath=_FM)
 def _bin_sums(Js, idx, J0s):
     """sum (J - J0)^2, sum (Jbar - Jbar0)^2, sum (J - J0) over the particles idx of one bin.
 
@@ -31,12 +38,8 @@ def _bin_sums(Js, idx, J0s):
     sb2 = 0.0
     s1 = 0.0
     for k in range(idx.size):
-        js = Js[idx[k]]
-        j = abs(js)
-        jb = 0.5 * j if js < 0.0 else j
-        j0s = J0s[k]
-        j0 = abs(j0s)
-        jb0 = 0.5 * j0 if j0s < 0.0 else j0
+        j, jb = _unsigned(Js[idx[k]])
+        j0, jb0 = _unsigned(J0s[k])
         d = j - j0
         db = jb - jb0
         s2 += d * d
@@ -97,8 +100,7 @@ def _fill_slot(Js, edges, idx, J0s, seg, seen):
     bins = np.empty(Js.size, dtype=np.int64)
     count = np.zeros(n_bins + 1, dtype=np.int64)
     for i in range(Js.size):
-        jb = 0.5 * abs(Js[i]) if Js[i] < 0.0 else abs(Js[i])
-        b = _bin_of(jb, edges)
+        b = _bin_of(_unsigned(Js[i])[1], edges)
         bins[i] = b
         if b >= 0:
             count[b + 1] += 1
@@ -162,7 +164,7 @@ class DisplacementAccumulator:
             )
         self.n_slots = min(self.max_lag // self.origin_every + 1, self.n_origins)
         # per slot, the particles in a bin sorted by bin (stable: index order within a bin):
-        # their indices, J(t0), librating flag; seg[slot, b] where bin b starts
+        # their indices and signed J(t0); seg[slot, b] where bin b starts
         self.idx = np.zeros((self.n_slots, self.n_track), dtype=np.int32)
         self.J0s = np.zeros((self.n_slots, self.n_track))
         self.seg = np.zeros((self.n_slots, self.n_bins + 1), dtype=np.int64)
@@ -171,7 +173,7 @@ class DisplacementAccumulator:
         self.origin_sample = np.arange(self.n_origins) * self.origin_every
         # the particles are held in the order of their J-bar at the first sample: a bin's
         # particles at a later origin then lie close together in memory (diffusion is slow),
-        # and the kernel reads J, J-bar almost sequentially instead of scattered
+        # and the kernel reads their signed actions almost sequentially instead of scattered
         self.order = None
         self._Js = np.zeros(self.n_track)
 

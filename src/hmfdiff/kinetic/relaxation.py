@@ -127,7 +127,7 @@ def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
         with warnings.catch_warnings():  # an exactly singular matrix is reported below
             warnings.simplefilter("ignore", linalg.LinAlgWarning)
             lu, piv = linalg.lu_factor(Jm, check_finite=False)
-        if not np.all(np.diag(lu) != 0.0):  # exactly singular
+        if np.any(np.diag(lu) == 0.0):  # exactly singular
             return y, False
         d = linalg.lu_solve((lu, piv), -scale * r, check_finite=False)
         if not np.all(np.isfinite(d)):
