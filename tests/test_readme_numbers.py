@@ -427,6 +427,16 @@ CLAIMS = [
         "total                      183     2438",
         "20 min 49 s, 2438 job-s",
     ),
+    (
+        "validation_summary_2e23146.txt",
+        "thermal_u-0.2 full vs propagated Lenard-Balescu: 28  0.047 (0.038)  0.990 +- 0.015  0.86",
+        "every line's median |ratio - 1| at most 4.7 %",
+    ),
+    (
+        "validation_summary_2e23146.txt",
+        "pooled, all lines: 224  0.038 (0.035)  1.006 +- 0.004  0.91 (0.94)  1.42 (1.09)",
+        "91 % of the 224 bins within |z| < 2 (no line below 86 %) and mean z^2 1.42 pooled",
+    ),
     ("suite_2026-11-27.txt", "720 passed in 471.06s (0:07:51)", "720 passed in 7 min 51 s"),
     ("suite_2026-11-27.txt", "121.20s setup", "smoke build (121 s)"),
     ("suite_2026-11-27.txt", "70.66s call     tests/test_slurm.py", "Slurm runs (71 s and 61 s"),
