@@ -4,7 +4,7 @@
 import json
 
 from hmfdiff.kinetic.flux import fokker_planck_jbar_current
-from hmfdiff.kinetic.relaxation import RelaxationSettings, evolve
+from hmfdiff.kinetic.relaxation import RelaxationSettings, evolve, face_jbar
 from hmfdiff.kinetic.stability import check_vlasov_stable
 from hmfdiff.meanfield.equilibrium import ThermalState
 from hmfdiff.pipeline.io import read_dataset, write_dataset
@@ -46,7 +46,11 @@ log.info(
     out["thermalised"],
 )
 fp0 = fokker_planck_jbar_current(
-    state, out["jbar_face"], settings.n_max, settings.l_max, equation == "lenard_balescu"
+    state,
+    face_jbar(out["grid"], out["M0"][0]),
+    settings.n_max,
+    settings.l_max,
+    equation == "lenard_balescu",
 )
 ds = kinetic_relaxation_dataset(
     out,
@@ -57,6 +61,13 @@ ds = kinetic_relaxation_dataset(
     stability=report,
     fp0=fp0,
 )
-log.info("tau_relax_fine (fine-grained entropy deficit / e) = %.4g", float(ds["tau_relax_fine"]))
+log.info(
+    "tau_relax_fine (fine-grained entropy deficit / e) = %.4g; dM0/dtau at 0: %.4g, over "
+    "tau <= %g: %.4g",
+    float(ds["tau_relax_fine"]),
+    float(ds["dM0dtau_initial"]),
+    settings.early_window,
+    float(ds["dM0dtau_early"]),
+)
 write_dataset(ds, sm.output[0], {"relaxation": run, "check_stability": check}, case=case)
 log.info("wrote %s", sm.output[0])

@@ -78,18 +78,27 @@ def power_law_fit(n, tau, tau_err=None):
 
 def kinetic_bin_fractions(jbar, width, f, edges):
     """Fractions of particles of a kinetic f on J-bar nodes (cells of width `width` around
-    each node, phase volume 4 pi width) in the bins `edges`: the cumulative mass at the cell
-    faces, interpolated linearly at the edges.  f may carry leading axes (e.g. tau)."""
+    each node, contiguous, phase volume 4 pi width) in the bins `edges`: the cumulative mass at
+    the cell faces, interpolated linearly at the edges.  f may carry leading axes (e.g. tau);
+    jbar and width are either one grid (N,) or one per leading index, shaped like f (the
+    kinetic grid stretches in J-bar with sqrt(M0(tau)))."""
     jbar = np.asarray(jbar, dtype=float)
     width = np.asarray(width, dtype=float)
     f = np.asarray(f, dtype=float)
-    lo = jbar[0] - (width[0] - 0.5 * (jbar[1] - jbar[0]))  # first cell ends half-way to node 1
-    faces = lo + np.concatenate([[0.0], np.cumsum(width)])
-    mass = PHASE_VOLUME_PER_JBAR * width * f
-    cum = np.concatenate([np.zeros(f.shape[:-1] + (1,)), np.cumsum(mass, axis=-1)], axis=-1)
     e = np.asarray(edges, dtype=float)
-    at = np.apply_along_axis(lambda c: np.interp(e, faces, c), -1, cum)
-    return np.diff(at, axis=-1)
+    if jbar.ndim == 1:
+        jbar = np.broadcast_to(jbar, f.shape)
+        width = np.broadcast_to(width, f.shape)
+    flat_j = jbar.reshape(-1, jbar.shape[-1])
+    flat_w = width.reshape(-1, width.shape[-1])
+    flat_f = f.reshape(-1, f.shape[-1])
+    out = np.empty((flat_f.shape[0], e.size - 1))
+    for k, (jb, w, ff) in enumerate(zip(flat_j, flat_w, flat_f, strict=True)):
+        lo = jb[0] - (w[0] - 0.5 * (jb[1] - jb[0]))  # first cell ends half-way to node 1
+        faces = lo + np.concatenate([[0.0], np.cumsum(w)])
+        cum = np.concatenate([[0.0], np.cumsum(PHASE_VOLUME_PER_JBAR * w * ff)])
+        out[k] = np.diff(np.interp(e, faces, cum))
+    return out.reshape(f.shape[:-1] + (e.size - 1,))
 
 
 def interpolate_in_time(t_src, values, t):

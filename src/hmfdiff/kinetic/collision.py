@@ -18,23 +18,29 @@ X[ln f] = 0.  The current G-bar = G/2 (librating), G (rotating) is continuous at
 separatrix: the current leaving the libration band splits equally into the two directions of
 rotation.
 
-Discrete form.  Nodes J-bar_i carry masses m_i = 4 pi w_i f_i (w_i the cell widths); face a is
-the dual cell [J-bar_a, J-bar_{a+1}], with the discrete derivative
-(d g/dh)_a = (g_{a+1} - g_a)/(h_{a+1} - h_a).  The delta function is integrated over frequency,
-int int dJ dJ' delta(n Omega - n' Omega') g = int domega rho_n(omega) rho'_n'(omega) g
-(rho: J-bar per unit frequency), with the exact orbital frequency at the ends of sub-cells of
-every face (`_subcells`, graded towards the moving separatrix where Omega -> 0
-logarithmically) and a uniform density on each; an *event* e is a pair of faces (a, b) (by test
-harmonic n) whose sub-cells resonate, with
+Discrete form.  The grid's cells are fixed in eta = kappa - 1 (`grid.ActionGrid`); at
+magnetisation M every J-bar scales as sqrt(M), energies h - M as M, frequencies as sqrt(M),
+and the Fourier coefficients do not change.  So the geometry and the resonances are computed
+once, in reduced units (M = 1), and scaled: the resonance condition n Omega = n' Omega' does
+not depend on M.  Nodes i carry masses m_i = 4 pi w_i f_i (w_i the cell widths) and cell-
+average energies h_i; face a is the dual cell between nodes a and a+1, with the discrete
+derivative (d g/dh)_a = (g_{a+1} - g_a)/(h_{a+1} - h_a) (differences of h - M, formed from
+eta without cancellation next to the separatrix).  The delta function is integrated over
+frequency, int int dJ dJ' delta(n Omega - n' Omega') g = int domega rho_n(omega)
+rho'_n'(omega) g (rho: J-bar per unit frequency), with the exact orbital frequency at the ends
+of sub-cells of every face (`_subcells`: geometric in |eta| next to the separatrix, down to
+1e-12 of the innermost node's |eta| and then to the separatrix itself, where Omega -> 0
+logarithmically) and a uniform density on each; an *event* e is a pair of faces (a, b) (by
+test harmonic n) whose sub-cells resonate, with
 
     W_e = 16 pi^3 sum over resonant sub-cell pairs of B int omega^2 rho rho' domega,
     X_e[g] = (dg/dh)_a - (dg/dh)_b,
     F_e = exp(ln f interpolated where the resonances sit in faces a and b).
 
-Then dm/dtau = -X^T (W F X[ln f]): mass and energy (sum m h at fixed M0) are conserved to
+Then dm/dtau = -X^T (W F X[ln f]): mass and energy (sum m h at fixed M) are conserved to
 rounding, sum_e W F X[ln f]^2 >= 0 is the entropy production for any W >= 0, and a thermal f
-has X[ln f] = 0 exactly.  Every face receives its share of every resonance from both sides,
-so the current converges pointwise (to a few per cent at 300 nodes, see the tests).
+has X[ln f] = 0 exactly.  At magnetisation M: W = M^(3/2) W^ (the bare weights), X = X^/M,
+the dielectric factor taken at omega = sqrt(M) omega^.
 """
 
 from __future__ import annotations
@@ -44,35 +50,33 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
-from ..meanfield import orbits
-from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
+from ..meanfield import separatrix
+from ..meanfield.fourier import cos_coefficient_eta, sin_coefficient_imag_eta
 
 __all__ = ["Geometry", "Events", "geometry", "resonance_events", "CollisionOperator"]
 
 #: 16 pi^3: 4 pi (phase volume per J-bar) x 4 pi^2 (kernel) x 1/2 (symmetrisation) x 2 (n, n' < 0)
 KERNEL = 16.0 * np.pi**3
-#: faces closer than this to the separatrix (in kappa) are moved to 1 -+ this
-SEPARATRIX_GUARD = 1e-12
+#: sub-cells of the separatrix face reach down to this fraction of its nodes' |eta|
+SEPARATRIX_DEPTH = 1e-12
 
 
 @dataclass(frozen=True)
 class Geometry:
-    """The grid's orbits at one magnetisation M0 (nodes i, faces a between nodes a and a+1)."""
+    """The grid's orbits in reduced units (M = 1; nodes i, faces a between nodes a and a+1)."""
 
-    M0: float
-    jbar: np.ndarray  # (N,) node J-bar
-    h: np.ndarray  # (N,) node energies
-    kappa: np.ndarray  # (N,) node kappa
-    xi: np.ndarray  # (N-1,) face J-bar (midpoints)
-    dj: np.ndarray  # (N-1,) node spacing J-bar_{a+1} - J-bar_a
+    eta: np.ndarray  # (N,) node eta = kappa - 1
+    xhat: np.ndarray  # (N,) node offset (J-bar - J-bar_s)/sqrt(M)
+    eps: np.ndarray  # (N,) node (cell-average) energy (h - M)/M
+    dj: np.ndarray  # (N-1,) node spacing in reduced J-bar
     s: np.ndarray  # (N-1,) 2 on librating faces, 1 on rotating faces
-    nu: np.ndarray  # (N-1,) discrete physical frequency (h_{a+1} - h_a)/(s_a dj_a)
-    kappa_face: np.ndarray  # (N-1,) kappa at the face position
+    nu: np.ndarray  # (N-1,) discrete reduced frequency (eps_{a+1} - eps_a)/(s_a dj_a)
+    sep_face: int  # the face between the last librating and the first rotating node
 
     @property
     def D(self):
-        """Face difference operator (N-1, N): (Dg)_a = (g_{a+1} - g_a)/dj_a."""
-        n = self.jbar.size
+        """Face difference operator (N-1, N): (Dg)_a = (g_{a+1} - g_a)/dj_a (reduced)."""
+        n = self.eta.size
         inv = 1.0 / self.dj
         rows = np.repeat(np.arange(n - 1), 2)
         cols = np.stack([np.arange(n - 1), np.arange(1, n)], axis=1).ravel()
@@ -80,93 +84,105 @@ class Geometry:
         return sparse.csr_matrix((vals, (rows, cols)), shape=(n - 1, n))
 
 
-def geometry(jbar, M0):
-    """Orbits of the grid nodes and faces at magnetisation M0."""
-    jbar = np.asarray(jbar, dtype=float)
-    kappa = orbits.kappa_from_rescaled_action(jbar, M0)
-    h = orbits.energy_from_kappa(kappa, M0)
-    xi = 0.5 * (jbar[1:] + jbar[:-1])
-    dj = np.diff(jbar)
-    lib = xi < orbits.jbar_separatrix(M0)
+def geometry(grid):
+    """The reduced geometry of an `ActionGrid`."""
+    eta = np.asarray(grid.eta, dtype=float)
+    dj = np.diff(grid.xhat)
+    lib = eta[1:] < 0.0  # the face lies below its upper node
     s = np.where(lib, 2.0, 1.0)
-    nu = np.diff(h) / (s * dj)
-    kf = orbits.kappa_from_rescaled_action(xi, M0)
-    near = np.abs(kf - 1.0) < SEPARATRIX_GUARD
-    kf = np.where(near, np.where(lib, 1.0 - SEPARATRIX_GUARD, 1.0 + SEPARATRIX_GUARD), kf)
-    if not np.all(nu > 0):
-        raise FloatingPointError("the grid's discrete frequencies must be positive")
-    return Geometry(float(M0), jbar, h, kappa, xi, dj, s, nu, kf)
+    nu = np.diff(grid.eps_hat) / (s * dj)
+    if not (np.all(dj > 0) and np.all(nu > 0)):
+        raise FloatingPointError("the grid's spacings and discrete frequencies must be positive")
+    sep_face = int(np.flatnonzero((eta[:-1] < 0.0) & (eta[1:] > 0.0))[0])
+    return Geometry(eta, np.asarray(grid.xhat, float), np.asarray(grid.eps_hat, float), dj, s, nu, sep_face)
 
 
 @dataclass(frozen=True)
 class Events:
     """Resonant pairs of faces (a, b) and, per elementary resonance o (a pair of resonant
-    sub-cells over a frequency interval), its event, frequency and bare weights."""
+    sub-cells over a frequency interval), its event, frequency and bare weights, in reduced
+    units (M = 1)."""
 
     a: np.ndarray  # (E,) test face
     b: np.ndarray  # (E,) partner face
-    C: sparse.csr_matrix  # (E, N-1): X_e = C D
+    C: sparse.csr_matrix  # (E, N-1): X_e = C D (reduced)
     P: sparse.csr_matrix  # (E, N): ln F_e = P ln f (ln f where the resonances sit in a and b)
     event: np.ndarray  # (O,) event of each elementary resonance
-    omega: np.ndarray  # (O,) its frequency n Omega = n' Omega' (interval midpoint)
-    bare_cc: np.ndarray  # (O,) 16 pi^3 c_n^2 c'_n'^2 int omega^2 rho rho' domega
+    omega: np.ndarray  # (O,) its reduced frequency n Omega = n' Omega' (interval midpoint)
+    bare_cc: np.ndarray  # (O,) 16 pi^3 c_n^2 c'_n'^2 int omega^2 rho rho' domega (reduced)
     bare_ss: np.ndarray  # (O,) the same with sigma_n^2 sigma'_n'^2
 
     @property
     def size(self):
         return self.a.size
 
-    def weights(self, eps=None):
-        """W_e = sum over the event's resonances of bare_cc/|eps_cc|^2 + bare_ss/|eps_ss|^2;
-        eps: None (Landau, eps = 1) or a callable omega -> (eps_cc, eps_ss)."""
+    def weights(self, M, eps=None):
+        """W_e at magnetisation M: M^(3/2) times the sum over the event's resonances of
+        bare_cc/|eps_cc|^2 + bare_ss/|eps_ss|^2; eps: None (Landau, eps = 1) or a callable
+        omega -> (eps_cc, eps_ss), evaluated at omega = sqrt(M) omega^."""
         if eps is None:
             w = self.bare_cc + self.bare_ss
         else:
-            e_cc, e_ss = eps(self.omega)
+            e_cc, e_ss = eps(np.sqrt(M) * self.omega)
             w = self.bare_cc / np.abs(e_cc) ** 2 + self.bare_ss / np.abs(e_ss) ** 2
-        return np.bincount(self.event, weights=w, minlength=self.a.size)
+        return M**1.5 * np.bincount(self.event, weights=w, minlength=self.a.size)
+
+
+def _face_points(geom, m, m_sep):
+    """Sub-cell edges (eta) of every face: m parts uniform in eta far from the separatrix and
+    geometric in |eta| within grid.LOG_CELL of it; the separatrix face, m_sep parts on each
+    side geometric from its nodes' |eta| down to SEPARATRIX_DEPTH of them, then to eta = 0."""
+    from .grid import LOG_CELL
+
+    lo, hi = geom.eta[:-1], geom.eta[1:]
+    t = np.linspace(0.0, 1.0, m + 1)
+    pts, face = [], []
+    for a in range(lo.size):
+        if a == geom.sep_face:
+            below = -np.geomspace(-lo[a], -lo[a] * SEPARATRIX_DEPTH, m_sep)
+            above = np.geomspace(hi[a] * SEPARATRIX_DEPTH, hi[a], m_sep)
+            p = np.concatenate((below, [0.0], above))
+        elif max(abs(lo[a]), abs(hi[a])) <= LOG_CELL:
+            p = np.sign(lo[a]) * np.exp(np.log(abs(lo[a])) + t * np.log(hi[a] / lo[a]))
+            p[0], p[-1] = lo[a], hi[a]
+        else:
+            p = lo[a] + t * (hi[a] - lo[a])
+        pts.append(p)
+        face.append(np.full(p.size - 1, a))
+    return pts, np.concatenate(face)
 
 
 def _subcells(geom, m, m_sep):
-    """Split every face's dual cell [J-bar_a, J-bar_{a+1}] into sub-cells on which the orbital
-    frequency is monotone and nearly linear: m equal parts, or, for the face that contains the
-    separatrix, m_sep parts on each side graded geometrically towards J-bar_s (where
-    Omega -> 0 logarithmically).  Returns a dict of sub-cell arrays: face, branch (0 librating,
-    1 rotating), frequency at both ends, length in J-bar, kappa at the midpoint."""
-    js = orbits.jbar_separatrix(geom.M0)
-    lo_j, hi_j = geom.jbar[:-1], geom.jbar[1:]
-    sep = np.flatnonzero((lo_j <= js) & (js <= hi_j))
-    edges, face = [], []
-    t = np.linspace(0.0, 1.0, m + 1)
-    for a in range(lo_j.size):
-        if a in sep:
-            below = js - np.geomspace(max(js - lo_j[a], 1e-300), 1e-12 * js, m_sep)
-            above = js + np.geomspace(1e-12 * js, max(hi_j[a] - js, 1e-300), m_sep)
-            pts = np.unique(np.concatenate(([lo_j[a]], below, [js], above, [hi_j[a]])))
-        else:
-            pts = lo_j[a] + t * geom.dj[a]
-        edges.append(np.stack([pts[:-1], pts[1:]], axis=1))
-        face.append(np.full(pts.size - 1, a))
-    edges = np.concatenate(edges)
-    face = np.concatenate(face)
-    jb = np.unique(edges.ravel())
-    with np.errstate(all="ignore"):
-        kb = orbits.kappa_from_rescaled_action(jb, geom.M0)
-        om = np.where(jb == js, 0.0, orbits.frequency(kb, geom.M0))
-    i0 = np.searchsorted(jb, edges[:, 0])
-    i1 = np.searchsorted(jb, edges[:, 1])
-    mid = 0.5 * (edges[:, 0] + edges[:, 1])
-    with np.errstate(all="ignore"):
-        kappa_mid = orbits.kappa_from_rescaled_action(mid, geom.M0)
-    theta = (mid - geom.jbar[face]) / geom.dj[face]
+    """Split every face's dual cell [node a, node a+1] into sub-cells on which the orbital
+    frequency is monotone and nearly linear (`_face_points`).  Returns a dict of sub-cell
+    arrays (reduced units): face, position theta in the face, branch (0 librating, 1
+    rotating), frequency at both ends, J-bar length, eta at the middle."""
+    pts, face = _face_points(geom, m, m_sep)
+    e0 = np.concatenate([p[:-1] for p in pts])
+    e1 = np.concatenate([p[1:] for p in pts])
+    ends = np.unique(np.concatenate((e0, e1)))
+    nz = ends != 0.0
+    om = np.zeros(ends.size)
+    om[nz] = separatrix.frequency(ends[nz], 1.0)
+    x = np.zeros(ends.size)
+    x[nz] = separatrix.jbar_offset(ends[nz], 1.0)
+    i0, i1 = np.searchsorted(ends, e0), np.searchsorted(ends, e1)
+    # the middle: geometric in |eta| on log sub-cells (and half the outer end on the one that
+    # ends on the separatrix), arithmetic on linear ones
+    logcell = (np.sign(e0) == np.sign(e1)) & (e0 != 0.0) & (e1 != 0.0)
+    with np.errstate(invalid="ignore"):
+        geo = np.sign(e0 + e1) * np.sqrt(np.abs(e0 * e1))
+    mid = np.where(logcell & (np.abs(e1 - e0) > 0.1 * np.abs(e0 + e1)), geo, 0.5 * (e0 + e1))
+    xmid = separatrix.jbar_offset(mid, 1.0)
+    theta = (xmid - geom.xhat[face]) / geom.dj[face]
     return {
         "face": face,
         "theta": theta,
-        "branch": (mid > js).astype(int),
+        "branch": (mid > 0.0).astype(int),
         "om0": om[i0],
         "om1": om[i1],
-        "length": edges[:, 1] - edges[:, 0],
-        "kappa": kappa_mid,
+        "length": x[i1] - x[i0],
+        "eta": mid,
     }
 
 
@@ -196,8 +212,38 @@ def _overlaps(part_t, part_p, n, npr):
     return it[kt], ip[kp], pts[:-1], pts[1:]
 
 
-def resonance_events(geom, n_max, m=4, m_sep=24):
-    """Every pair of faces in resonance n Omega = n' Omega' (1 <= n, n' <= n_max) (`Events`).
+def _derivative_at(geom, face, theta, derivative):
+    """(E, N-1) rows giving d g/dh at the resonances' positions theta (0: node a, 1: node a+1)
+    in the faces, from the face differences (D g)_a: 'face' takes the face's own difference
+    quotient (first order in the face width); 'interpolated' interpolates the difference
+    quotients of the face and its neighbour on the resonance's side linearly in J-bar between
+    the faces' centres (second order).  Either way a row sums the quotients with weights
+    adding to one, so that X[h] = 0 and X[1] = 0 exactly."""
+    nf = geom.nu.size
+    de = geom.s * geom.nu * geom.dj  # eps_{a+1} - eps_a
+    q = geom.dj / de  # (d g/dh)_a = q_a (D g)_a
+    E = face.size
+    if derivative == "face":
+        return sparse.csr_matrix((q[face], (np.arange(E), face)), shape=(E, nf))
+    if derivative != "interpolated":
+        raise ValueError(f"derivative = {derivative!r}: 'face' or 'interpolated'")
+    x = geom.xhat
+    centre = 0.5 * (x[1:] + x[:-1])
+    pos = x[face] + theta * geom.dj[face]
+    other = np.where(pos < centre[face], face - 1, face + 1)
+    ok = (other >= 0) & (other < nf)
+    other = np.clip(other, 0, nf - 1)
+    w = np.where(ok, np.abs(pos - centre[face]) / np.abs(centre[other] - centre[face]), 0.0)
+    w = np.clip(w, 0.0, 1.0)
+    rows = np.concatenate((np.arange(E), np.arange(E)))
+    cols = np.concatenate((face, other))
+    vals = np.concatenate(((1.0 - w) * q[face], w * q[other]))
+    return sparse.csr_matrix((vals, (rows, cols)), shape=(E, nf))
+
+
+def resonance_events(geom, n_max, m=4, m_sep=24, derivative="face"):
+    """Every pair of faces in resonance n Omega = n' Omega' (1 <= n, n' <= n_max) (`Events`),
+    in reduced units.
 
     The measure int int dJ-bar dJ-bar' delta(n Omega - n' Omega') and the Fourier coefficients
     are integrated over sub-cells (`_subcells`) with a uniform J-bar density per unit frequency
@@ -208,8 +254,8 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
     if not np.all(width > 0):
         raise FloatingPointError("a sub-cell of the grid has an empty frequency range")
     ns = np.arange(1, n_max + 1)
-    c2 = cos_coefficient(ns[:, None], sub["kappa"][None, :]) ** 2  # (n_max, n_sub)
-    s2 = sin_coefficient_imag(ns[:, None], sub["kappa"][None, :]) ** 2
+    c2 = cos_coefficient_eta(ns[:, None], sub["eta"][None, :]) ** 2  # (n_max, n_sub)
+    s2 = sin_coefficient_imag_eta(ns[:, None], sub["eta"][None, :]) ** 2
     parts = [_branch_partition(sub, b) for b in (0, 1)]
     nf = geom.nu.size
     keys, vcc, vss, tha, thb, oms = [], [], [], [], [], []
@@ -224,7 +270,7 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
                     keep = ft != fp
                     t, p, lo, hi, ft, fp = t[keep], p[keep], lo[keep], hi[keep], ft[keep], fp[keep]
                     dens = sub["length"][t] * sub["length"][p] / (n * width[t] * npr * width[p])
-                    # int omega^2 domega over the overlap (X = omega (d ln f/dh - d ln f'/dh))
+                    # int omega^2 domega over the overlap (X = omega (d ln f/dh - d ln f'/dh'))
                     meas = dens * (hi**3 - lo**3) / 3.0
                     keys.append(ft * nf + fp)
                     oms.append(0.5 * (lo + hi))
@@ -242,12 +288,8 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
     theta_a = np.bincount(inv, weights=wt * np.concatenate(tha)) / wsum
     theta_b = np.bincount(inv, weights=wt * np.concatenate(thb)) / wsum
     a, b = np.divmod(uk, nf)
-    dh = geom.s * geom.nu * geom.dj  # h_{a+1} - h_a
     E = a.size
-    rows = np.repeat(np.arange(E), 2)
-    cols = np.stack([a, b], axis=1).ravel()
-    cvals = np.stack([geom.dj[a] / dh[a], -geom.dj[b] / dh[b]], axis=1).ravel()
-    C = sparse.csr_matrix((cvals, (rows, cols)), shape=(E, nf))
+    C = _derivative_at(geom, a, theta_a, derivative) - _derivative_at(geom, b, theta_b, derivative)
     r4 = np.repeat(np.arange(E), 4)
     c4 = np.stack([a, a + 1, b, b + 1], axis=1).ravel()
     p4 = np.stack([1.0 - theta_a, theta_a, 1.0 - theta_b, theta_b], axis=1).ravel()
@@ -258,21 +300,22 @@ def resonance_events(geom, n_max, m=4, m_sep=24):
 
 
 class CollisionOperator:
-    """dm/dtau = -X^T (W F X[ln f]) for one geometry, resonance set and dielectric factor.
+    """dm/dtau = -X^T (W F X[ln f]) at magnetisation M for one geometry, resonance set and
+    dielectric factor (m the node masses at M).
 
     eps : None (Landau) or a callable omega -> (eps_cc, eps_ss) (Lenard-Balescu), evaluated at
     the frequency of every elementary resonance.
     """
 
-    def __init__(self, geom, events, eps=None):
+    def __init__(self, geom, events, M, eps=None):
         self.geom = geom
         self.events = events
-        ev = events
-        self.W = ev.weights(eps)
-        self.D = geom.D
-        self.X = (ev.C @ self.D).tocsr()  # (E, N)
-        self.P = ev.P
+        self.M = float(M)
+        self.W = events.weights(self.M, eps)
+        self.X = ((events.C @ geom.D) / self.M).tocsr()  # (E, N): X = X^/M
+        self.P = events.P
         self.XT = self.X.T.tocsr()
+        self.dj = np.sqrt(self.M) * geom.dj  # face spacings in J-bar
 
     def _parts(self, y):
         F = np.exp(self.P @ y)
@@ -294,8 +337,9 @@ class CollisionOperator:
     def face_flux(self, y):
         """Number flux 4 pi G-bar through each face a (towards larger J-bar)."""
         F, Xy = self._parts(y)
-        q = self.events.C.T @ (self.W * F * Xy)
-        return -q / self.geom.dj
+        # C at M is C^/sqrt(M) (dj/dh: sqrt(M) dj^ / (M deps^)), and dj = sqrt(M) dj^
+        q = (self.events.C.T @ (self.W * F * Xy)) / np.sqrt(self.M)
+        return -q / self.dj
 
     def entropy_production(self, y):
         """dS/dtau = sum_e W F X[ln f]^2 >= 0."""

@@ -1,19 +1,22 @@
 """Collisional relaxation f(J-bar, tau) by the Landau and Lenard-Balescu equations (eq. hmflb,
 paper's Conclusions), with a self-consistent magnetisation.
 
-State.  f on a fixed grid of rescaled actions J-bar (`hmfdiff.kinetic.grid.action_grid`, packed
-round the separatrix and on the steep edges of the initial f), node masses m_i = 4 pi w_i f_i.
-J is an adiabatic invariant of the slow change of M0, so f(J-bar) is held fixed while M0 is
-re-solved from
-M0 = sum_i m_i <cos theta>(J-bar_i; M0) after every step (`solve_grid_M0`).  The separatrix
-J-bar_s = 4 sqrt(M0)/pi moves with M0: a node it passes changes family at fixed J-bar, i.e. a
-librating torus of action J becomes the pair of rotating tori of action J/2, each direction
-receiving half of its particles (the area-preserving separatrix crossing; f stays even in p).
+State.  f on a grid of cells fixed in eta = kappa - 1, the orbit's signed distance to the
+separatrix (`hmfdiff.kinetic.grid.action_grid`: packed on the steep edges of the initial f and
+graded geometrically in |eta| down to layer_eta_min next to the separatrix); at magnetisation
+M the cells' J-bar scale as sqrt(M) and the separatrix J-bar_s = 4 sqrt(M)/pi is always a face
+(the *frame* M).  J is an adiabatic invariant of the slow change of M0, so f(J-bar) is held
+fixed while M0 is re-solved from M0 = int f <cos theta> / int f after every step
+(`grid.solve_grid_M0`, cell integrals of <cos theta> at the new M0), and f is then carried to
+the cells of the new frame (`grid.remap`, f(J-bar) unchanged, mass conserved): the separatrix
+sweeps through f, and the cells next to it are filled with what it sweeps in.  f stays even in
+p; the current leaving the libration band splits equally between the two directions of
+rotation.
 
-Energy per particle u = sum_i m_i h(J-bar_i; M0) + M0^2/2.  At fixed M0 the collision step
-conserves sum m h exactly (`collision`); the M0 update at fixed f(J-bar) changes u only at
-second order in the change of M0, because d u/d M0 = M0 - sum m <cos theta> = 0 at the
-self-consistent M0.
+Energy per particle u = sum_i m_i h_i(M0) + M0^2/2 with cell-average energies h_i.  At fixed M0
+the collision step conserves sum m h exactly (`collision`); the M0 update at fixed f(J-bar)
+changes u only at second order in the change of M0, because du/dM0 = M0 - sum m <cos theta> =
+0 at the self-consistent M0; the remap changes it by its interpolation error.
 
 Time stepping.  Backward Euler in ln f with the collision weights (orbits, resonances, dielectric
 factor) frozen over a step, solved by Newton to rounding: it is stable for this stiff problem,
@@ -34,11 +37,15 @@ from scipy import linalg
 from .collision import CollisionOperator, geometry, resonance_events
 from .dielectric import DielectricTensor
 from .grid import (
+    JS_HAT,
     action_grid,
     grid_energy,
     grid_entropy,
+    grid_mass,
     grid_thermal_state,
+    magnetisation_map,
     project_state,
+    remap,
     solve_grid_M0,
     thermal_fit,
 )
@@ -51,6 +58,8 @@ __all__ = [
 ]
 
 EQUATIONS = ("landau", "lenard_balescu")
+#: how the resonances read d ln f/dh in a face (`collision._derivative_at`)
+DERIVATIVE = "face"
 #: ln f is kept above this (f = 0 cannot be represented in ln f)
 LOG_FLOOR = -700.0
 
@@ -70,10 +79,16 @@ class RelaxationSettings:
     dtau_first: float = 0.0  # 0: from the initial rate
     max_steps: int = 2000
     flux_times: tuple = (0.0,)
+    #: tau_early of dM0dtau_early = (M0(tau_early) - M0(0)) / tau_early (a step ends there)
+    early_window: float = 0.5
     feature_share: float = 0.25
     separatrix_share: float = 0.4
-    #: no grid node within |kappa - 1| < separatrix_band (`grid.action_grid`; 0: none)
-    separatrix_band: float = 0.0
+    #: the grid next to the separatrix (`grid.action_grid`): a resolution dlog_omega in
+    #: ln Omega, at least min_per_decade nodes per decade of |kappa - 1| below 1e-2, down to
+    #: the innermost pair at kappa = 1 -+ layer_eta_min (no node closer to the separatrix)
+    layer_eta_min: float = 1e-24
+    dlog_omega: float = 0.02
+    min_per_decade: float = 1.0
     eps_panels: int = 48
     eps_order: int = 20
     eps_refresh: float = 0.01
@@ -83,8 +98,14 @@ class RelaxationSettings:
             raise ValueError(f"equation = {self.equation!r}: must be one of {EQUATIONS}")
         if not self.rtol > 0 or not self.tau_max > 0:
             raise ValueError("rtol and tau_max must be > 0")
-        if not 0.0 <= self.separatrix_band < 0.5:
-            raise ValueError(f"separatrix_band = {self.separatrix_band!r}: must be in [0, 0.5)")
+        if not self.early_window > 0:
+            raise ValueError(f"early_window = {self.early_window!r}: must be > 0")
+        if not 1e-300 <= self.layer_eta_min < 0.02:
+            raise ValueError(f"layer_eta_min = {self.layer_eta_min!r}: must be in [1e-300, 0.02)")
+        if not self.dlog_omega >= 0:
+            raise ValueError(f"dlog_omega = {self.dlog_omega!r}: must be >= 0")
+        if not self.min_per_decade > 0:
+            raise ValueError(f"min_per_decade = {self.min_per_decade!r}: must be > 0")
 
     def as_dict(self):
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
@@ -92,6 +113,11 @@ class RelaxationSettings:
     @classmethod
     def from_mapping(cls, equation, mapping):
         """Settings from a config mapping (unknown keys refused, naming them)."""
+        if "separatrix_band" in mapping:
+            raise ValueError(
+                "relaxation settings: separatrix_band was renamed layer_eta_min (the innermost "
+                "grid nodes sit at kappa = 1 -+ layer_eta_min; none closer to the separatrix)"
+            )
         unknown = sorted(set(mapping) - set(cls.__dataclass_fields__))
         if unknown:
             raise ValueError(f"relaxation settings: unknown key(s) {unknown}")
@@ -113,47 +139,66 @@ class _History:
     distance: list = field(default_factory=list)
 
 
+def _newton_matrix(op, vol, y, dt):
+    """LU of I - dt diag(1/m) d(rate)/dy at y (rows relative to each node's mass m = vol f),
+    or None if exactly singular.  Dense LU: the collision operator couples every node to its
+    resonant partners (~12 % of the matrix filled at 600 nodes), where LAPACK factorises 4x
+    faster than SuperLU."""
+    scale = 1.0 / (vol * np.exp(y))
+    Jm = np.eye(y.size) - dt * (scale[:, None] * op.jacobian(y).toarray())
+    with warnings.catch_warnings():  # an exactly singular matrix is reported by the caller
+        warnings.simplefilter("ignore", linalg.LinAlgWarning)
+        lu, piv = linalg.lu_factor(Jm, check_finite=False)
+    if np.any(np.diag(lu) == 0.0):
+        return None
+    return lu, piv
+
+
 def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
-    """Solve vol e^y - vol e^y0 = dt * rate(y) by damped Newton; returns (y, converged)."""
+    """Solve vol e^y - vol e^y0 = dt * rate(y) by damped Newton iterations that reuse their
+    factorised matrix while it contracts the correction by at least half an iteration (and
+    refactorise otherwise); returns (y, converged)."""
     m0 = vol * np.exp(y0)
     y = y0.copy()
+    lu = None
+    last = np.inf
     for _ in range(max_iter):
         f = np.exp(y)
-        scale = 1.0 / (vol * f)  # rows relative to each node's mass: well conditioned
+        if lu is None:
+            lu = _newton_matrix(op, vol, y, dt)
+            if lu is None:  # exactly singular
+                return y, False
+            last = np.inf
         r = vol * f - m0 - dt * op.rate(y)
-        # dense LU: the collision operator couples every node to its resonant partners (~12 %
-        # of the matrix filled at 600 nodes), where LAPACK factorises 4x faster than SuperLU
-        Jm = np.eye(y.size) - dt * (scale[:, None] * op.jacobian(y).toarray())
-        with warnings.catch_warnings():  # an exactly singular matrix is reported below
-            warnings.simplefilter("ignore", linalg.LinAlgWarning)
-            lu, piv = linalg.lu_factor(Jm, check_finite=False)
-        if np.any(np.diag(lu) == 0.0):  # exactly singular
-            return y, False
-        d = linalg.lu_solve((lu, piv), -scale * r, check_finite=False)
+        d = linalg.lu_solve(lu, -r / (vol * f), check_finite=False)
         if not np.all(np.isfinite(d)):
             return y, False
-        step = min(1.0, 2.0 / max(np.max(np.abs(d)), 1e-300))
+        size = np.max(np.abs(d))
+        step = min(1.0, 2.0 / max(size, 1e-300))
         y = np.maximum(y + step * d, LOG_FLOOR)
         if step == 1.0 and np.max(np.abs(d) * f) <= tol * np.max(f):
             return y, True
+        if step < 1.0 or size > 0.5 * last:  # slow: a fresh Jacobian next
+            lu = None
+        last = size
     return y, False
 
 
-def _interpolated_dielectric(tensor, geom, n_max, l_max):
+def _interpolated_dielectric(tensor, geom, M, n_max, l_max):
     """eps_cc, eps_ss tabulated once and interpolated linearly in omega: at the faces'
     frequencies n nu_a (dense where the grid is) below 1.2 l_max Omega_0, where the librating
     poles make eps change fast; on 200 geometric points above, where only rotating orbits
     contribute and eps is smooth; on a geometric grid below 0.05 Omega_0 (eps_ss ~ eps_ss(0) +
     c omega^2 there)."""
-    Om0 = np.sqrt(geom.M0)
-    faces = (np.arange(1, n_max + 1)[:, None] * geom.nu[None, :]).ravel()
+    Om0 = np.sqrt(M)
+    faces = (np.arange(1, n_max + 1)[:, None] * (Om0 * geom.nu)[None, :]).ravel()
     cut = 1.2 * l_max * Om0
     top = max(faces.max(), cut) * 1.01
     om = np.unique(
         np.concatenate(
             [
                 np.geomspace(1e-5 * Om0, 0.05 * Om0, 40),
-                faces[faces < cut],
+                faces[(faces < cut) & (faces > 1e-5 * Om0)],
                 np.geomspace(cut, top, 200),
             ]
         )
@@ -169,6 +214,13 @@ def _interpolated_dielectric(tensor, geom, n_max, l_max):
     return eps
 
 
+def dielectric_nodes(grid):
+    """The nodes a tabulated f for the dielectric tensor keeps: those whose J-bar differs from
+    the separatrix's by more than 1e-9 of it (the layer's mass is negligible there, and its
+    J-bar would round to J-bar_s)."""
+    return np.flatnonzero(np.abs(grid.xhat) > 1e-9 * JS_HAT)
+
+
 class _Dielectric:
     """eps(omega) of the grid state, recomputed only when f has changed by more than
     `refresh` (relative to max f) since it was last computed (the weights then lag by less)."""
@@ -179,7 +231,7 @@ class _Dielectric:
         self.eps = None
         self.n_evaluations = 0
 
-    def __call__(self, grid, f, geom):
+    def __call__(self, grid, f, M, geom):
         s = self.s
         if self.f_ref is not None:
             change = np.max(np.abs(f - self.f_ref)) / np.max(self.f_ref)
@@ -188,31 +240,82 @@ class _Dielectric:
         # the dielectric tensor of f(J-bar) with its own self-consistent M0 (eps_ss(0) = 0
         # needs it: with the grid's M0, which differs by the quadrature error, 1/|eps_ss|^2
         # at low frequency would be wrong by orders of magnitude)
-        tab = TabulatedState(grid.jbar, np.maximum(f, np.exp(LOG_FLOOR)), M0_guess=geom.M0)
+        keep = dielectric_nodes(grid)
+        tab = TabulatedState(
+            grid.jbar(M)[keep], np.maximum(f[keep], np.exp(LOG_FLOOR)), M0_guess=M
+        )
         tensor = DielectricTensor(tab, l_max=s.l_max, n_panels=s.eps_panels, order=s.eps_order)
-        self.eps = _interpolated_dielectric(tensor, geom, s.n_max, s.l_max)
+        self.eps = _interpolated_dielectric(tensor, geom, M, s.n_max, s.l_max)
         self.f_ref = f.copy()
         self.n_evaluations += 1
         return self.eps
 
 
-class _Operator:
-    """The collision operator of a state f on the grid with orbits of magnetisation M0."""
+class Kinetics:
+    """The grid, its reduced geometry and resonances (computed once), and the collision
+    operator of a state f at magnetisation M (`operator`)."""
 
-    def __init__(self, grid, f, M0, settings, dielectric=None):
-        self.geom = geometry(grid.jbar, M0)
-        self.events = resonance_events(self.geom, settings.n_max)
+    def __init__(self, grid, settings):
+        self.grid = grid
+        self.settings = settings
+        self.geom = geometry(grid)
+        self.events = resonance_events(self.geom, settings.n_max, derivative=DERIVATIVE)
+        self.dielectric = _Dielectric(settings)
+
+    def operator(self, f, M):
         eps = None
-        if settings.equation == "lenard_balescu":
-            dielectric = dielectric or _Dielectric(settings)
-            eps = dielectric(grid, f, self.geom)
-        self.op = CollisionOperator(self.geom, self.events, eps)
+        if self.settings.equation == "lenard_balescu":
+            eps = self.dielectric(self.grid, f, M, self.geom)
+        return CollisionOperator(self.geom, self.events, M, eps)
+
+
+def make_grid(state, settings):
+    """The grid of `settings` for the initial state."""
+    s = settings
+    return action_grid(
+        state.M0,
+        s.n_nodes,
+        s.kappa_max,
+        state,
+        s.feature_share,
+        s.separatrix_share,
+        s.layer_eta_min,
+        s.dlog_omega,
+        s.min_per_decade,
+    )
+
+
+def face_jbar(grid, M):
+    """J-bar of the faces between nodes (the current's positions) at M."""
+    return np.sqrt(M) * (JS_HAT + 0.5 * (grid.xhat[1:] + grid.xhat[:-1]))
+
+
+def _floor(f):
+    return np.maximum(f, np.exp(LOG_FLOOR))
+
+
+def early_rate(tau, M0, window):
+    """(M0(window) - M0(0)) / window, M0 interpolated linearly in tau (NaN if the evolution
+    ended before the window)."""
+    tau, M0 = np.asarray(tau), np.asarray(M0)
+    if not tau[-1] >= window * (1 - 1e-12):
+        return float("nan")
+    return float((np.interp(window, tau, M0) - M0[0]) / window)
+
+
+def initial_rate(grid, op, y, M0, h=1e-6):
+    """dM0/dtau of the state y = ln f at M0: sum_i (dm_i/dtau) <cos theta>_i / mass (the change
+    of f at fixed orbits) over 1 - dF/dM0 (the self-consistent response of M0 to it)."""
+    f = np.exp(y)
+    num = float(np.dot(op.rate(y), grid.cos_avg)) / grid_mass(grid, f, M0)
+    dF = (magnetisation_map(grid, f, M0, M0 + h) - magnetisation_map(grid, f, M0, M0 - h)) / (2 * h)
+    return num / (1.0 - dF)
 
 
 def evolve(state, settings, progress=None, operator=None):
     """Evolve `state` (any object with M0 and f_energy(h)) under the Landau or Lenard-Balescu
     equation until thermalised (max |f - f_eq| / max f_eq < thermal_tol, f_eq the thermal
-    state of the same energy on the grid) or tau_max.
+    state of the same energy on the grid, carried to the frame of the current M0) or tau_max.
 
     operator: None (the collision operator of `settings.equation`), or a factory
     (grid, f, M0) -> an object with the methods of `CollisionOperator` (rate, jacobian,
@@ -221,35 +324,29 @@ def evolve(state, settings, progress=None, operator=None):
     control and time bookkeeping.
 
     Each step uses the orbits of the predicted mid-step magnetisation
-    M0 + (dM0/dtau) dtau/2 (from the previous step), which makes the energy error of the M0
-    update third order in its change per step.  progress(dict) is called after every accepted
-    step with tau, M0, S, u, thermal_distance_max (max |f - f_eq| / max f_eq).
+    M0 + (dM0/dtau) dtau/2 (from the previous step): f is carried to that frame, stepped there,
+    M0 re-solved with f(J-bar) fixed, and f carried to the frame of the new M0.  progress(dict)
+    is called after every accepted step with tau, M0, S, u, thermal_distance_max.
 
-    Returns a dict: per accepted step 'tau', 'f' (T, N), 'M0', 'u', 'S', 'mass', 'beta_fit',
-    'distance' (max |f - f_eq| / max f_eq); at `settings.flux_times` (and the end) 'tau_flux',
-    'flux' (T', N-1) (the current G-bar through each face) and 'Sdot'; the grid ('jbar',
-    'width', 'jbar_face'); the thermal end point ('f_eq', 'M0_eq', 'beta_eq', 'S_eq'); the
-    settings, step counts and wall time.
+    Returns a dict: per accepted step 'tau', 'f' (T, N) (on the cells of the frame M0(tau)),
+    'M0', 'u', 'S', 'mass', 'beta_fit', 'distance' (max |f - f_eq| / max f_eq); at
+    `settings.flux_times` (and the end) 'tau_flux', 'flux' (T', N-1) (the current G-bar
+    through each face) and 'Sdot'; the grid ('grid': the `ActionGrid`, 'eta', 'xhat',
+    'width_hat'); the thermal end point ('f_eq', 'M0_eq', 'beta_eq', 'S_eq'); the settings,
+    step counts and wall time.
     """
     s = settings
     t0 = time.perf_counter()
-    grid = action_grid(
-        state.M0,
-        s.n_nodes,
-        s.kappa_max,
-        state,
-        s.feature_share,
-        s.separatrix_share,
-        s.separatrix_band,
-    )
+    grid = make_grid(state, s)
     f, M0 = project_state(state, grid)
     y = np.log(f)
-    vol = grid.volume
     hist = _History()
     u0 = grid_energy(grid, f, M0)
     f_eq, M0_eq, beta_eq = grid_thermal_state(grid, u0, None)
     flux_times = sorted({float(t) for t in s.flux_times if 0.0 < t < s.tau_max})
-    tau_flux, flux, sdot = [], [], []
+    stops = sorted(set(flux_times) | ({s.early_window} if s.early_window < s.tau_max else set()))
+    tau_flux, flux, sdot, M_flux = [], [], [], []
+    kin = Kinetics(grid, s) if operator is None else None
 
     def record(tau, y, M0):
         f = np.exp(y)
@@ -257,10 +354,11 @@ def evolve(state, settings, progress=None, operator=None):
         hist.f.append(f)
         hist.M0.append(M0)
         hist.u.append(grid_energy(grid, f, M0))
-        hist.S.append(grid_entropy(grid, f))
-        hist.mass.append(float(np.sum(vol * f)))
+        hist.S.append(grid_entropy(grid, f, M0))
+        hist.mass.append(grid_mass(grid, f, M0))
         hist.beta_fit.append(thermal_fit(grid, f, M0)[0])
-        dist = float(np.max(np.abs(f - f_eq)) / np.max(f_eq))
+        eq_here = remap(grid, f_eq, M0_eq, M0)
+        dist = float(np.max(np.abs(f - eq_here)) / np.max(eq_here))
         hist.distance.append(dist)
         if progress is not None:
             progress(
@@ -274,23 +372,25 @@ def evolve(state, settings, progress=None, operator=None):
             )
         return dist
 
-    dielectric = _Dielectric(s)
-
-    def make_operator(f, M0):
+    def make_operator(f, M):
         if operator is not None:
-            return operator(grid, f, M0)
-        return _Operator(grid, f, M0, s, dielectric).op
+            return operator(grid, f, M)
+        return kin.operator(f, M)
 
     def record_flux(tau, y, M0):
         op = make_operator(np.exp(y), M0)
         tau_flux.append(tau)
         flux.append(op.face_flux(y) / PHASE_VOLUME_PER_JBAR)
         sdot.append(op.entropy_production(y))
+        M_flux.append(M0)
         return op
 
     tau = 0.0
     dist = record(tau, y, M0)
     op = record_flux(tau, y, M0)
+    dM0dtau_initial = initial_rate(grid, op, y, M0)
+    y_mid, M_mid = y, M0
+    vol = grid.volume(M0)
     rate0 = np.max(np.abs(op.rate(y)) / vol)
     dt = s.dtau_first or (s.rtol * np.max(f) / rate0 if rate0 > 0 else s.tau_max)
     dM0dt = 0.0
@@ -298,20 +398,23 @@ def evolve(state, settings, progress=None, operator=None):
     n_rejected = n_steps = 0
     while tau < s.tau_max * (1 - 1e-12) and dist >= s.thermal_tol and n_steps < s.max_steps:
         dt = min(dt, s.tau_max - tau)
-        upcoming = [t for t in flux_times if t > tau * (1 + 1e-12)]
+        upcoming = [t for t in stops if t > tau * (1 + 1e-12)]
         if upcoming:
             dt = min(dt, upcoming[0] - tau)
-        if fresh:  # a new step: orbits at the predicted mid-step M0 (kept if it is rejected)
-            op = make_operator(np.exp(y), M0 + 0.5 * dM0dt * dt)
+        if fresh:  # a new step: f in the frame of the predicted mid-step M0 (kept if rejected)
+            M_mid = M0 + 0.5 * dM0dt * dt
+            y_mid = np.log(_floor(remap(grid, np.exp(y), M0, M_mid)))
+            op = make_operator(np.exp(y_mid), M_mid)
+            vol = grid.volume(M_mid)
             fresh = False
-        y1, ok1 = _backward_euler(op, vol, y, dt)
-        yh, okh = _backward_euler(op, vol, y, 0.5 * dt) if ok1 else (y, False)
-        y2, ok2 = _backward_euler(op, vol, yh, 0.5 * dt) if okh else (y, False)
+        y1, ok1 = _backward_euler(op, vol, y_mid, dt)
+        yh, okh = _backward_euler(op, vol, y_mid, 0.5 * dt) if ok1 else (y_mid, False)
+        y2, ok2 = _backward_euler(op, vol, yh, 0.5 * dt) if okh else (y_mid, False)
         if not (ok1 and okh and ok2):
             n_rejected += 1
             dt *= 0.25
             continue
-        fmax = np.max(np.exp(y))
+        fmax = np.max(np.exp(y_mid))
         err = np.max(np.abs(np.exp(y2) - np.exp(y1))) / (s.rtol * fmax)
         if err > 1.0:
             n_rejected += 1
@@ -319,8 +422,9 @@ def evolve(state, settings, progress=None, operator=None):
             continue
         tau += dt
         n_steps += 1
-        y = y2
-        M0_new = solve_grid_M0(grid, np.exp(y), M0)
+        f2 = np.exp(y2)
+        M0_new = solve_grid_M0(grid, f2, M_mid, guess=M0 + dM0dt * dt)
+        y = np.log(_floor(remap(grid, f2, M_mid, M0_new)))
         dM0dt = (M0_new - M0) / dt
         M0 = M0_new
         dist = record(tau, y, M0)
@@ -331,17 +435,24 @@ def evolve(state, settings, progress=None, operator=None):
     if tau_flux[-1] != tau:
         record_flux(tau, y, M0)
     out = {k: np.asarray(v) for k, v in hist.__dict__.items()}
+    M_hist = out["M0"]
     out.update(
         tau_flux=np.asarray(tau_flux),
         flux=np.asarray(flux),
         Sdot=np.asarray(sdot),
-        jbar=grid.jbar,
-        width=grid.width,
-        jbar_face=0.5 * (grid.jbar[1:] + grid.jbar[:-1]),
+        M0_flux=np.asarray(M_flux),
+        dM0dtau_initial=dM0dtau_initial,
+        dM0dtau_early=early_rate(out["tau"], out["M0"], s.early_window),
+        grid=grid,
+        eta=grid.eta,
+        xhat=grid.xhat,
+        width_hat=grid.width_hat,
+        jbar=np.sqrt(M_hist)[:, None] * (JS_HAT + grid.xhat)[None, :],
+        width=np.sqrt(M_hist)[:, None] * grid.width_hat[None, :],
         settings=s.as_dict(),
         n_steps=n_steps,
         n_rejected=n_rejected,
-        n_dielectric=dielectric.n_evaluations,
+        n_dielectric=0 if kin is None else kin.dielectric.n_evaluations,
         thermalised=bool(dist < s.thermal_tol),
         wall_time=time.perf_counter() - t0,
         u_state=float(getattr(state, "u", np.nan)),
@@ -349,6 +460,6 @@ def evolve(state, settings, progress=None, operator=None):
         f_eq=f_eq,
         M0_eq=M0_eq,
         beta_eq=beta_eq,
-        S_eq=grid_entropy(grid, f_eq),
+        S_eq=grid_entropy(grid, f_eq, M0_eq),
     )
     return out

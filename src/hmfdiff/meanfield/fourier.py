@@ -16,9 +16,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import separatrix
 from .orbits import _K_E, _modulus_parameter, nome
 
-__all__ = ["cos_coefficient", "sin_coefficient", "sin_coefficient_imag"]
+__all__ = [
+    "cos_coefficient",
+    "cos_coefficient_eta",
+    "sin_coefficient",
+    "sin_coefficient_imag",
+    "sin_coefficient_imag_eta",
+]
 
 
 def _parts(n, kappa):
@@ -31,6 +38,17 @@ def _parts(n, kappa):
     return n, kappa, m, m1, lib, K, E, q
 
 
+def _parts_eta(n, eta):
+    """The same parts from the signed distance to the separatrix eta = kappa - 1
+    (`separatrix`), without the loss of 1 - m that kappa suffers next to it."""
+    n = np.asarray(n)
+    eta = np.asarray(eta, dtype=float)
+    n, eta = np.broadcast_arrays(n, eta)
+    kappa, m, m1, lib, K, E = separatrix.fourier_parts(eta)
+    q = nome(m, m1)
+    return n, kappa, m, m1, lib, K, E, q
+
+
 def cos_coefficient(n, kappa):
     """c_n(kappa), eq. (hmfcm), broadcasting over n (integers) and kappa.
 
@@ -38,7 +56,21 @@ def cos_coefficient(n, kappa):
     kappa > 1:  2 kappa^2 (pi/K)^2 |n| q^{|n|} / (1 - q^{2|n|}),
                 with K = K(1/kappa), q = q(1/kappa).
     """
-    n, kappa, m, m1, lib, K, E, q = _parts(n, kappa)
+    return _cos_coefficient(*_parts(n, kappa))
+
+
+def cos_coefficient_eta(n, eta):
+    """c_n of the orbit eta = kappa - 1 (eq. hmfcm), accurate at any distance from the
+    separatrix (`separatrix`)."""
+    return _cos_coefficient(*_parts_eta(n, eta))
+
+
+def sin_coefficient_imag_eta(n, eta, sign=1.0):
+    """sigma_n (s_n = -i sigma_n, eq. hmfsm) of the orbit eta = kappa - 1 (`separatrix`)."""
+    return _sin_coefficient_imag(*_parts_eta(n, eta), sign)
+
+
+def _cos_coefficient(n, kappa, m, m1, lib, K, E, q):
     a = np.abs(n).astype(float)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         lib_c = (np.pi / K) ** 2 * a * q ** (a / 2) / -np.expm1(a * np.log(q))
@@ -59,7 +91,10 @@ def sin_coefficient_imag(n, kappa, sign=1.0):
     kappa < 1:  (pi/K)^2 n q^{|n|/2} / (1 + q^{|n|}) for odd n, 0 for even n;
     kappa > 1:  sign * 2 kappa^2 (pi/K)^2 n q^{|n|} / (1 + q^{2|n|}).
     """
-    n, kappa, m, m1, lib, K, E, q = _parts(n, kappa)
+    return _sin_coefficient_imag(*_parts(n, kappa), sign)
+
+
+def _sin_coefficient_imag(n, kappa, m, m1, lib, K, E, q, sign):
     sign = np.broadcast_to(np.asarray(sign, dtype=float), n.shape)
     nf = n.astype(float)
     a = np.abs(nf)

@@ -1,12 +1,16 @@
 """Layout of results/relaxation/{case}_{equation}.nc: one collisional relaxation by the Landau or
 Lenard-Balescu equation (`kinetic.relaxation.evolve`).
 
-Data contract (read by independent checks): coordinate `tau` (= t/N); variables `M0(tau)`,
-`u(tau)` (energy per particle, kinetic plus potential, u = 1/(2 beta) - M0^2/2 for a thermal
-state), `S(tau)` (fine-grained entropy -int f ln f), `mass(tau)`; `thermal_distance_max(tau)` =
-max |f - f_eq| / max f_eq; `f(tau, Jbar)`; `tau_relax_fine` (e-folding of the fine-grained
-entropy deficit); the current `flux(tau_flux, Jbar_face)` at the
-chosen times (tau = 0 first); attributes `case`, `equation` and every numerical setting.
+Data contract (read by independent checks): coordinates `tau` (= t/N) and `eta` (= kappa - 1
+of each grid node, the orbit's signed distance to the separatrix: the grid's cells are fixed
+in eta and stretch in J-bar with sqrt(M0)); variables `M0(tau)`, `u(tau)` (energy per particle,
+kinetic plus potential, u = 1/(2 beta) - M0^2/2 for a thermal state), `S(tau)` (fine-grained
+entropy -int f ln f), `mass(tau)`; `thermal_distance_max(tau)` = max |f - f_eq| / max f_eq;
+`f(tau, eta)` with the nodes' `Jbar(tau, eta)` and `cell_width(tau, eta)` and their offsets
+from the separatrix `Jbar_offset(tau, eta)` (exact where J-bar itself rounds to J-bar_s);
+`tau_relax_fine` (e-folding of the fine-grained entropy deficit); `dM0dtau_initial` and
+`dM0dtau_early`; the current `flux(tau_flux, eta_face)` at the chosen times (tau = 0 first);
+attributes `case`, `equation` and every numerical setting.
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ import json
 import numpy as np
 import xarray as xr
 
-from ...meanfield import orbits
+from ...kinetic.grid import JS_HAT
 from .variables import ACTION, ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL, variable
 
 __all__ = ["relaxation_times", "kinetic_relaxation_dataset"]
@@ -47,17 +51,51 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
     `ThermalState` of the same energy; stability: a `StabilityReport` or None; fp0: the
     Fokker-Planck current G-bar at tau = 0 on the faces (existing coefficient code), or None.
     """
-    tau, jbar, jface = out["tau"], out["jbar"], out["jbar_face"]
-    T, J, F = ("tau",), ("Jbar",), ("Jbar_face",)
+    tau = out["tau"]
+    grid = out["grid"]
+    T, J, F = ("tau",), ("eta",), ("eta_face",)
+    TJ = ("tau", "eta")
     tau_e, tau_rate = relaxation_times(out)
-    f_th = thermal.f(orbits.kappa_from_rescaled_action(jbar, thermal.M0))
+    sqM = np.sqrt(np.asarray(out["M0"]))[:, None]
+    sqM_flux = np.sqrt(np.asarray(out["M0_flux"]))[:, None]
+    xf = 0.5 * (grid.xhat[1:] + grid.xhat[:-1])
+    f_th = thermal.f(1.0 + grid.eta)
     data = {
         "f": variable(
-            ("tau", "Jbar"),
+            TJ,
             out["f"],
             "1",
-            "phase-space density f(J-bar, tau), normalised to int f dtheta dp = 1 "
-            "(rotating J-bar counts both directions of rotation)",
+            "phase-space density f(J-bar, tau) on the grid's cells (fixed in eta, stretching "
+            "in J-bar with sqrt(M0)), normalised to int f dtheta dp = 1 (rotating J-bar counts "
+            "both directions of rotation)",
+            valid=NONNEGATIVE,
+        ),
+        "Jbar": variable(
+            TJ,
+            sqM * (JS_HAT + grid.xhat)[None, :],
+            ACTION,
+            "rescaled action J-bar of the nodes at M0(tau) (rounds to J-bar_s next to the "
+            "separatrix: see Jbar_offset)",
+            valid=NONNEGATIVE,
+        ),
+        "Jbar_offset": variable(
+            TJ,
+            sqM * grid.xhat[None, :],
+            ACTION,
+            "J-bar - J-bar_s of the nodes at M0(tau), J-bar_s = 4 sqrt(M0)/pi the separatrix",
+        ),
+        "cell_width": variable(
+            TJ,
+            sqM * grid.width_hat[None, :],
+            ACTION,
+            "J-bar width of each node's cell at M0(tau)",
+            valid=NONNEGATIVE,
+        ),
+        "Jbar_face": variable(
+            ("tau_flux", "eta_face"),
+            sqM_flux * (JS_HAT + xf)[None, :],
+            ACTION,
+            "J-bar of the faces between nodes (where the current is given) at M0(tau_flux)",
             valid=NONNEGATIVE,
         ),
         "M0": variable(
@@ -91,21 +129,20 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             "entropy production dS/dtau",
             valid=NONNEGATIVE,  # H theorem: sum over resonances of W F X^2 >= 0
         ),
-        "cell_width": variable(
-            J, out["width"], ACTION, "J-bar width of each node's cell", valid=NONNEGATIVE
-        ),
         "f_thermal": variable(
             J,
             out["f_eq"],
             "1",
-            "thermal state of energy u(0) on the grid (the end point)",
+            "thermal state of energy u(0) on the grid (the end point), on its cells at "
+            "M0_thermal_grid",
             valid=NONNEGATIVE,
         ),
         "f_thermal_analytic": variable(
             J,
             f_th,
             "1",
-            "analytic thermal state of energy u(0) (thermal_M0_from_energy)",
+            "analytic thermal state of energy u(0) (thermal_M0_from_energy) on the orbits "
+            "kappa = 1 + eta",
             valid=NONNEGATIVE,
         ),
         "M0_thermal": variable(
@@ -134,6 +171,23 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             TAU_UNITS,
             "(S_eq - S(0)) / (dS/dtau)(0) of the fine-grained entropy, the initial-rate estimate",
         ),
+        "dM0dtau_initial": variable(
+            (),
+            out["dM0dtau_initial"],
+            "1 / tau",
+            "dM0/dtau at tau = 0: sum of the collision operator's dm_i/dtau times the cells' "
+            "<cos theta>, over 1 - dF/dM0 (the response of the self-consistent M0); it includes "
+            "the instantaneous current of the initial state's layer next to the separatrix, "
+            "which adapts within a vanishing time",
+        ),
+        "dM0dtau_early": variable(
+            (),
+            out["dM0dtau_early"],
+            "1 / tau",
+            "(M0(tau_early) - M0(0)) / tau_early, tau_early = the setting early_window: the "
+            "early rate of change of the magnetisation, after the layer next to the separatrix "
+            "has adapted",
+        ),
     }
     if fp0 is not None:
         data["flux_fokker_planck_tau0"] = variable(
@@ -152,9 +206,18 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             "times at which the current is stored",
             valid=NONNEGATIVE,
         ),
-        "Jbar": variable(J, jbar, ACTION, "rescaled action J-bar of nodes", valid=NONNEGATIVE),
-        "Jbar_face": variable(
-            F, jface, ACTION, "J-bar of the faces between nodes", valid=NONNEGATIVE
+        "eta": variable(
+            J,
+            grid.eta,
+            "1",
+            "kappa - 1 of each grid node: its signed distance to the separatrix (< 0 "
+            "librating, > 0 rotating); the cells are fixed in eta",
+        ),
+        "eta_face": variable(
+            F,
+            grid.eta_edges[1:-1],
+            "1",
+            "kappa - 1 at the faces between nodes (0: the separatrix)",
         ),
     }
     ds = xr.Dataset(data, coords=coords)
@@ -178,10 +241,12 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             "mass_drift": float(np.max(np.abs(out["mass"] - out["mass"][0]))),
             "u_drift_relative": float(np.max(np.abs(out["u"] - out["u"][0])) / abs(out["u"][0])),
             "separatrix_treatment": (
-                "f is held fixed at fixed J-bar while M0 changes; a node passed by the moving "
-                "separatrix J-bar_s = 4 sqrt(M0)/pi changes family at fixed J-bar (a librating "
-                "torus of action J becomes the two rotating tori of action J/2, half the "
-                "particles in each direction); the current G-bar is continuous there"
+                "the grid's cells are fixed in eta = kappa - 1 and stretch in J-bar with "
+                "sqrt(M0), so that the separatrix J-bar_s = 4 sqrt(M0)/pi is always a face; "
+                "f(J-bar) is held fixed while M0 changes (J an adiabatic invariant) and carried "
+                "to the cells of the new M0 (the separatrix sweeps through f); a librating torus "
+                "of action J becomes the two rotating tori of action J/2, half the particles in "
+                "each direction; the current G-bar is continuous there"
             ),
         }
     )

@@ -1,0 +1,142 @@
+"""The kinetic relaxation time and the early rate of M0 against the grid's resolution of the layer
+next to the separatrix.
+
+    python studies/separatrix_layer.py eta_min CASE EQUATION [ETA_MIN ...]
+    python studies/separatrix_layer.py nodes CASE EQUATION [N_NODES ...]
+    python studies/separatrix_layer.py omega CASE EQUATION [DLOG_OMEGA ...]
+    python studies/separatrix_layer.py all                     # the table of the docs
+
+CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
+lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
+= 1e-3, the reproduction's settings) with the default grid of config/config.yaml but for the one
+setting varied: the innermost node pair at kappa = 1 -+ eta_min (`layer_eta_min`), the outer
+node count (`n_nodes`), or the resolution in ln Omega (`dlog_omega`, which grades the grid next
+to the separatrix where Omega -> 0 as 1/ln(1/|kappa - 1|)).  It prints tau_R (fine-grained
+entropy deficit / e), tau_R^coarse (the same on the N-body ensembles' 40 J-bar bins to
+kappa = 3, as results/relaxation_comparison), dM0/dtau at tau = 0 (`dM0dtau_initial`), the mean
+rate over tau <= 0.5 (`dM0dtau_early`, the window of results/relaxation_rates), the number of
+nodes and the wall time.  Runs on one core.  Output of `all`: docs/reference/separatrix_layer.txt.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import sys  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from hmfdiff.analysis.relaxation_compare import _coarse_entropy  # noqa: E402
+from hmfdiff.analysis.relaxation_md import (  # noqa: E402
+    kinetic_bin_fractions,
+    relaxation_time,
+    state_bin_fractions,
+)
+from hmfdiff.kinetic.relaxation import RelaxationSettings, evolve  # noqa: E402
+from hmfdiff.meanfield import orbits  # noqa: E402
+from hmfdiff.meanfield.equilibrium import ThermalState, make_state  # noqa: E402
+from hmfdiff.pipeline.layouts.kinetic_relaxation import relaxation_times  # noqa: E402
+
+CASES = {
+    "ch2": (
+        dict(
+            kind="core_halo", eta1=0.298, eta2=0.051, mu1=-0.517, mu2=0.19, beta1=30.0, beta2=10.0
+        ),
+        2.5,
+    ),
+    "hot": (
+        dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0),
+        3.5,
+    ),
+}
+#: the reproduction's settings (config/config.yaml relaxation block)
+BASE = dict(n_nodes=600, rtol=1e-3, thermal_tol=1e-3, tau_max=1e5)
+VARY = {"eta_min": "layer_eta_min", "nodes": "n_nodes", "omega": "dlog_omega"}
+
+
+def coarse_time(out, state):
+    """tau_R^coarse: the coarse-grained entropy deficit on the ensembles' 40 J-bar bins up to
+    J-bar(kappa = 3) at the state's M0 fallen by e (as `analysis.relaxation_compare`)."""
+    edges = np.linspace(0.0, float(orbits.rescaled_action(3.0, state.M0)), 41)
+    thermal = ThermalState(u=float(out["u"][0]))
+    S_eq = float(_coarse_entropy(state_bin_fractions(thermal, edges), edges))
+    P = kinetic_bin_fractions(out["jbar"], out["width"], out["f"], edges)
+    return relaxation_time(out["tau"], S_eq - _coarse_entropy(P, edges))
+
+
+def one(case, equation, **kw):
+    spec, kappa_max = CASES[case]
+    state = make_state(spec)
+    settings = RelaxationSettings(equation=equation, kappa_max=kappa_max, **{**BASE, **kw})
+    t0 = time.perf_counter()
+    out = evolve(state, settings)
+    wall = time.perf_counter() - t0
+    tau_fine, _ = relaxation_times(out)
+    return {
+        "tau_fine": tau_fine,
+        "tau_coarse": coarse_time(out, state),
+        "dM0_initial": float(out["dM0dtau_initial"]),
+        "dM0_early": float(out["dM0dtau_early"]),
+        "nodes": int(out["eta"].size),
+        "thermalised": out["thermalised"],
+        "du": float(np.max(np.abs(out["u"] - out["u"][0]))),
+        "wall": wall,
+    }
+
+
+HEADER = (
+    f"{'case':5s} {'equation':15s} {'setting':>22s} {'nodes':>6s} {'tau_R':>9s} "
+    f"{'tau_R^coarse':>12s} {'dM0/dtau(0)':>12s} {'dM0/dtau<=0.5':>13s} {'|du|':>8s} {'wall/s':>7s}"
+)
+
+
+def line(case, equation, label, r):
+    return (
+        f"{case:5s} {equation:15s} {label:>22s} {r['nodes']:6d} {r['tau_fine']:9.2f} "
+        f"{r['tau_coarse']:12.3f} {r['dM0_initial']:12.5e} {r['dM0_early']:13.5e} "
+        f"{r['du']:8.1e} {r['wall']:7.0f}" + ("" if r["thermalised"] else "  (not thermalised)")
+    )
+
+
+def sweep(kind, case, equation, values):
+    key = VARY[kind]
+    for v in values:
+        value = int(v) if key == "n_nodes" else float(v)
+        r = one(case, equation, **{key: value})
+        print(line(case, equation, f"{key}={value:g}", r), flush=True)
+
+
+#: the table of docs/reference/separatrix_layer.txt
+ALL = [
+    ("eta_min", ["1e-2", "1e-4", "1e-8", "1e-16", "1e-32", "1e-64"]),
+    ("omega", ["0.08", "0.04", "0.02", "0.01"]),
+    ("nodes", ["300", "600", "1200"]),
+]
+
+
+def main(argv):
+    if not argv:
+        print(__doc__)
+        return 2
+    if argv[0] == "all":
+        print(HEADER)
+        for case in ("ch2", "hot"):
+            for equation in ("landau", "lenard_balescu"):
+                for kind, values in ALL:
+                    sweep(kind, case, equation, values)
+        return 0
+    kind, case, equation, values = argv[0], argv[1], argv[2], argv[3:]
+    if kind not in VARY or case not in CASES or equation not in ("landau", "lenard_balescu"):
+        print(__doc__)
+        return 2
+    print(HEADER)
+    sweep(kind, case, equation, values)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
