@@ -19,15 +19,16 @@ For each case and dynamics, and pooled over all of them:
   neighbour in bin order, in its own case and dynamics, is flagged for the separatrix: two per
   line) and over all the others.  Beside the band the particles diffuse, during the fit's lags,
   across structure of the theory's D narrower than that distance, which the asymptotic theory
-  does not see and the propagated one does (`analysis.propagated`, the README), so these bins
-  are counted apart rather than hidden.
+  does not see and the propagated one does (`analysis.propagated`, docs/validation.md), so these
+  bins are counted apart rather than hidden.
 
 The same for the finite-time (windowed) theory, with `ratio_windowed` and `z_windowed`, and for
 the propagated theory, with `ratio_propagated` and `z_propagated` (where the table has them).
 `python -m hmfdiff.analysis.agreement results/validation.csv` prints the summary; with
-`--markdown` the two tables, with `--readme` the block the README includes (both tables and the
-|z| > 3 bins by name), with `--update README.md` that block written between the README's
-markers.  The README's block comes from the reference copy of a full reproduction's table,
+`--markdown` the two tables, with `--readme` the block docs/validation.md includes (the tables
+and the |z| > 3 bins by name), with `--update PAGE` that block written between the page's
+markers (`python -m hmfdiff.analysis.agreement docs/reference/validation.csv --update
+docs/validation.md`).  The block comes from the reference copy of a full reproduction's table,
 docs/reference/validation.csv; `tests/test_readme_numbers.py` checks the two agree.
 """
 
@@ -271,7 +272,7 @@ def _outlier_lines(stats_, ratio, z, indent):
 
 
 def markdown_table(rows, comparison="asymptotic"):
-    """The README's table: one line per case and dynamics, then the pooled line."""
+    """The page's table: one line per case and dynamics, then the pooled line."""
     head = (
         "| case | dynamics | bins | median \\|ratio - 1\\| (expected) | mean ratio | "
         "\\|z\\| < 2 (expected) | mean z^2 (expected) |\n|---|---|---|---|---|---|---|"
@@ -299,7 +300,7 @@ def markdown_table(rows, comparison="asymptotic"):
 
 
 def readme_block(rows):
-    """The README's block: per comparison its table and its bins with |z| > 3 by name."""
+    """The page's block: per comparison its table and its bins with |z| > 3 by name."""
     out = []
     what_of = {"windowed": "windowed (finite-time)", "propagated": "propagated (finite-N)"}
     for comparison, (ratio, z, _, _) in _present(rows):
@@ -311,16 +312,17 @@ def readme_block(rows):
     return "\n".join(out).rstrip() + "\n"
 
 
-#: the lines around the block in README.md
+#: the lines around the block in docs/validation.md (the names keep their first page's)
 README_MARKERS = ("<!-- agreement:start -->", "<!-- agreement:end -->")
 
 
 def readme_with_block(text, block):
-    """`text` (the README) with the part between `README_MARKERS` replaced by `block`.
+    """`text` (a page: docs/validation.md) with what lies between `README_MARKERS` replaced by
+    `block`.
     ValueError unless each marker occurs exactly once, start before end."""
     start, end = README_MARKERS
     if text.count(start) != 1 or text.count(end) != 1 or text.index(start) > text.index(end):
-        raise ValueError(f"README: needs one {start} line before one {end} line")
+        raise ValueError(f"page: needs one {start} line before one {end} line")
     head, rest = text.split(start)
     _, tail = rest.split(end)
     return f"{head}{start}\n{block}{end}{tail}"
@@ -350,14 +352,14 @@ def main(argv=None):
     if "--update" in argv:
         i = argv.index("--update")
         if i + 1 >= len(argv):
-            sys.exit("agreement: --update needs the README's path")
+            sys.exit("agreement: --update needs the page's path (docs/validation.md)")
         update = argv.pop(i + 1)
         argv.pop(i)
     paths = [a for a in argv if not a.startswith("--")]
     if len(paths) != 1:
         sys.exit(
             "usage: python -m hmfdiff.analysis.agreement VALIDATION_CSV "
-            "[--markdown | --readme | --update README.md]"
+            "[--markdown | --readme | --update docs/validation.md]"
         )
     rows = read_rows(paths[0])
     if update is not None:
