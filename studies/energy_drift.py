@@ -15,6 +15,8 @@ Pieces (a variant names the ones taken in float64 or changed):
   folded   the kick as p + (a C - b S) with a = h Fy, b = h Fx rounded to float32 once a step
            (the present kernel's)
   plain    the kick as p + h (Fy C - Fx S), h, Fx, Fy rounded to float32 (the previous kernel's)
+  m1       the rotation as S' = S + (S (cos d - 1) + C sin d), C' likewise, cos d - 1 kept to
+           float32's relative precision (not the kernel's: it changed nothing measurable)
   rot      (sin theta, cos theta) stored and rotated in float64 (with sin d, cos d exact)
   sincos   sin d, cos d of the drift angle exact (float64 of the wrapped float64 angle, error
            < 6e-16, then rounded to float32)
@@ -45,7 +47,7 @@ import numba
 import numpy as np
 import yaml
 
-from hmfdiff.dynamics import ensemble, integrator
+from hmfdiff.dynamics import elementary, ensemble, integrator
 from hmfdiff.dynamics.elementary import (
     _CHUNK,
     _FM,
@@ -102,6 +104,30 @@ def previous_sincos_drift32_short(d):
     return s, c
 
 
+@numba.njit(fastmath={"contract"})
+def sincosm1_drift32(d):
+    """(sin d, cos d - 1) by elementary's polynomials, cos d - 1 = z (-1/2 + z C(z)) kept to
+    float32's relative precision, not rounded on the grid near 1 (variant 'm1' rotates by
+    S' = S + (S (cos d - 1) + C sin d): its norm error then has no sign where cos d rounds
+    to 1)."""
+    z = d * d
+    s = d + d * z * (elementary._DS1 + z * (elementary._DS2 + z * elementary._DS3))
+    cm1 = z * (
+        elementary._MINUS_HALF_F
+        + z * (elementary._DC2 + z * (elementary._DC3 + z * elementary._DC4))
+    )
+    return s, cm1
+
+
+@numba.njit(fastmath={"contract"})
+def sincosm1_drift32_short(d):
+    """The same on |d| <= DRIFT_SHORT."""
+    z = d * d
+    s = d + d * z * (elementary._DS1s + z * elementary._DS2s)
+    cm1 = z * (elementary._MINUS_HALF_F + z * (elementary._DC2s + z * elementary._DC3s))
+    return s, cm1
+
+
 _TEMPLATE = """
 @numba.njit(fastmath=_FM)
 def _normalise(S, C):
@@ -146,6 +172,28 @@ def _step(p, S, C, h, dt, Fx, Fy, p_bound):
             cd = RT(cd64)
             s2 = RT(S[i]) * cd + RT(C[i]) * sd
             c2 = RT(C[i]) * cd - RT(S[i]) * sd
+            sc += MT(c2)
+            ss += MT(s2)
+            p[i] = pi_
+            S[i] = s2
+            C[i] = c2
+    elif ROTFORM == "m1" and drift_bound <= DRIFT_SHORT:
+        for i in range(p.size):
+            pi_ = _kick_of(p[i], S[i], C[i], hk, fx, fy, a, b)
+            sd, cm = _sincosm1_drift32_short(dt32 * np.float32(pi_))
+            s2 = S[i] + (S[i] * cm + C[i] * sd)
+            c2 = C[i] + (C[i] * cm - S[i] * sd)
+            sc += MT(c2)
+            ss += MT(s2)
+            p[i] = pi_
+            S[i] = s2
+            C[i] = c2
+    elif ROTFORM == "m1" and drift_bound <= DRIFT_MAX:
+        for i in range(p.size):
+            pi_ = _kick_of(p[i], S[i], C[i], hk, fx, fy, a, b)
+            sd, cm = _sincosm1_drift32(dt32 * np.float32(pi_))
+            s2 = S[i] + (S[i] * cm + C[i] * sd)
+            c2 = C[i] + (C[i] * cm - S[i] * sd)
             sc += MT(c2)
             ss += MT(s2)
             p[i] = pi_
@@ -241,6 +289,7 @@ MODIFIERS = {
     "force64": {6: F64, 7: F64},
     "force64r": {6: F64, 7: F32},
     "folded": {8: "folded"},
+    "m1": {9: "m1"},
     "plain": {8: "plain"},
     "rot": {1: F64, 2: F64},
     "exact": {4: "exact"},
@@ -254,7 +303,7 @@ def spec(variant):
     """The pieces of `variant`: a name of VARIANTS, or 'BASE+MOD+...' with BASE in VARIANTS and
     each MOD in MODIFIERS (e.g. 'present+kick': the present kernel with p in float64)."""
     base, *mods = variant.split("+")
-    out = list(VARIANTS[base])
+    out = list(VARIANTS[base]) + ["plain"]
     for m in mods:
         for k, v in MODIFIERS[m].items():
             out[k] = v
@@ -264,7 +313,7 @@ def spec(variant):
 def build(variant):
     """The ensemble step of `variant` (a compiled `steps(p, S, C, M, n_steps, dt)`) and the
     storage types of p and of (S, C)."""
-    pt, at, rt, mt, sincos, renorm, ft, ct, kick = spec(variant)
+    pt, at, rt, mt, sincos, renorm, ft, ct, kick, rotform = spec(variant)
     ns = {
         "numba": numba,
         "np": np,
@@ -280,6 +329,9 @@ def build(variant):
             previous_sincos_drift32_short if sincos == "previous" else _sincos_drift32_short
         ),
         "_sincos_wrapped": _sincos_wrapped,
+        "_sincosm1_drift32": sincosm1_drift32,
+        "_sincosm1_drift32_short": sincosm1_drift32_short,
+        "ROTFORM": rotform,
         "_refreshed_bound": integrator._refreshed_bound,
         "_BOUND_REFRESH": integrator._BOUND_REFRESH,
         "_kick": integrator._kick,
