@@ -79,10 +79,11 @@ def test_long_ensemble_run_has_no_secular_energy_drift():
     """32 realisations of N = 1000 in a thermal state (M0 = 0.7: stationary, so that any
     trend is the integration's), dt = 0.1, to t = 16000 (160 000 steps, the energy measured
     every 20): the slope of u(t) - u(0) against t, least squares per realisation, averaged over
-    the realisations, is zero within 4 standard errors (measured +1.5e-11 +- 1.3e-11 per unit
-    time; the relaxation ensembles' longest run, t = 6e5, would move u by 1e-5 at that slope).
-    The kernel before the fix drifted by -1.1e-9 (z = -58): -1.3e-9 from its drift sincos,
-    +2e-10 from its kick."""
+    the realisations, is zero within 4 standard errors (~1.5e-11 per unit time here; the
+    present kernel's residual, +1.5e-11 +- 0.3e-11 in studies/energy_drift.py's thermal state
+    at R = 128, is below this resolution).  The kernel before the fix fails by -1.14e-9
+    (4 se = 5.9e-11): -1.3e-9 from its drift sincos, +2.1e-10 from its kick alone (4 se =
+    6.7e-11)."""
     dt, every, t_end = 0.1, 20.0, 16000.0
     ens = ensemble._initial_ensemble(ThermalState(M0=0.7), 1000, 32, seed=5)
     n_every = int(round(every / dt))
