@@ -28,7 +28,9 @@ def theory_dataset(grid):
         "Jbar": kv(
             grid["Jbar"], "action", "rescaled action J-bar (J/2 for kappa < 1, J for kappa > 1)"
         ),
-        "Omega": kv(grid["Omega"], "1/time", "orbital frequency Omega(kappa) (eq. hmfomega)"),
+        # not "Omega": CF names may not differ by case only, and the frequency coordinate of
+        # eps is "omega" (the orbits file, which has no omega, keeps the name Omega)
+        "Omega_orbit": kv(grid["Omega"], "1/time", "orbital frequency Omega(kappa) (eq. hmfomega)"),
         "resonance_n": variable(
             ("resonance",),
             res["n"].astype(np.int32),
