@@ -15,7 +15,10 @@ the MD counters, indices, sizes; CF before 1.9 knows no 64-bit type, and a check
 default CF version refuses them), else in 64 bits, which the declared CF-1.10 allows; the
 largest at paper size, an MD(full) count of (origin, particle) pairs, is 120 000 tracked
 particles x 51 origins = 6.1e6 per seed file.  `read_dataset` gives them back as int64, so that
-a sum over many files (the fits pool 20-40 seeds) cannot overflow.
+a sum over many files (the fits pool 20-40 seeds) cannot overflow.  Every text attribute that
+cites the paper by a LaTeX label of its source ("eq. hmfCEdif", "fig. hmfcontribs", whichever
+module wrote it) is stored with the published number instead ("eq. (49)", "fig. 4";
+`hmfdiff.paper_equations.cite`).
 
 Atomicity.  Data go to a hidden temporary file beside the target (`.{name}.{random}.part`),
 renamed onto the target only when complete, so a killed job never leaves a file that looks
@@ -52,6 +55,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+
+from ..paper_equations import cite
 
 ENGINE = "netcdf4"
 CONVENTIONS = "CF-1.10"
@@ -317,6 +322,8 @@ def write_dataset(ds, path, config_fragment=None, case=None, history=None, title
     Refused (ValueError, before anything is written): complex variables (netCDF has no complex
     type), variables without `units` and `long_name`, and unit strings that are neither CF
     units nor an HMF quantity (`cf_units`, which also maps the latter to "1" and a comment).
+    Integers that fit are stored in 32 bits (`_narrow`); text attributes cite the paper's
+    equations and figures by their published numbers (`paper_equations.cite`).
     Coordinates get no _FillValue; every variable with a dimension gets a Fletcher-32
     checksum.  The title is `title`, else the
     dataset's own, else the default of the writing rule.
@@ -336,6 +343,9 @@ def write_dataset(ds, path, config_fragment=None, case=None, history=None, title
     ds = _narrow(ds)
     ds.attrs.update(provenance(config_fragment, case=case, history=history))
     ds.attrs["title"] = title or ds.attrs.get("title") or _default_title(path)
+    for var in ds.variables.values():
+        var.attrs = {k: cite(v) for k, v in var.attrs.items()}
+    ds.attrs = {k: cite(v) for k, v in ds.attrs.items()}
     encoding = {}
     for name, var in ds.variables.items():
         enc = {}
