@@ -28,3 +28,4 @@ with open(sm.output.summary, "w") as fh:
     fh.write(summary + "\n")
 for line in summary.splitlines():
     log.info(line)
+log.info("wrote %s and %s (%d bins)", sm.output.table, sm.output.summary, len(rows))
