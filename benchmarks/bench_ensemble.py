@@ -7,6 +7,9 @@ same run.  Target (issue 14): at least 5e8 particle-steps/s aggregate on 2 threa
 
     python benchmarks/bench_ensemble.py [--json] [--threads 2] [--n 2000] [--r 100] [--steps 200]
 
+Also against the previous ensemble kernel (angle stored, float64) and the float32 step as it
+ran until issue 39 (`previous_kernels.ensemble_steps_float32_taylor`: Taylor sincos, kick with
+h rounded), timed alternately with the present one in the same run.
 Kernels are compiled on small arrays before any timing; timings are the best of 3 repetitions.
 """
 
@@ -49,12 +52,23 @@ def measure(n=2000, r=100, n_steps=200, threads=2, dt=0.05):
     Ma = ens.M.copy()
     previous_kernels.ensemble_steps(tha[:2, :50].copy(), pa[:2, :50].copy(), Sa[:2, :50].copy(),
                                     Ca[:2, :50].copy(), Ma[:2].copy(), 2, dt)  # fmt: skip
-    t_ens = t_prev = np.inf
+    # the float32 step as it ran until issue 39 (Taylor sincos, kick with h rounded)
+    pf, Sf, Cf, Mf = ens.p.copy(), ens.S.copy(), ens.C.copy(), ens.M.copy()
+    small = (pf[:2, :50].copy(), Sf[:2, :50].copy(), Cf[:2, :50].copy(), Mf[:2].copy())
+    previous_kernels.ensemble_steps_float32_taylor(*small, 2, dt)
+    t_ens = t_prev = t_fix = np.inf
     for _ in range(3):
         t_ens = min(t_ens, best_of(lambda: ens.advance(n_steps, dt), reps=1))
         t_prev = min(
             t_prev,
             best_of(lambda: previous_kernels.ensemble_steps(tha, pa, Sa, Ca, Ma, n_steps, dt), 1),
+        )
+        t_fix = min(
+            t_fix,
+            best_of(
+                lambda: previous_kernels.ensemble_steps_float32_taylor(pf, Sf, Cf, Mf, n_steps, dt),
+                1,
+            ),
         )
     singles = [integrator.Particles(th0[k], p0[k]) for k in range(r)]
 
@@ -70,6 +84,8 @@ def measure(n=2000, r=100, n_steps=200, threads=2, dt=0.05):
         "ensemble_speedup": t_single / t_ens,
         "previous_ensemble_particle_steps_per_s": work / t_prev,
         "ensemble_speedup_vs_previous": t_prev / t_ens,
+        "float32_taylor_ensemble_particle_steps_per_s": work / t_fix,
+        "ensemble_speed_vs_float32_taylor": t_fix / t_ens,
         "n": n,
         "r": r,
         "n_steps": n_steps,
@@ -101,6 +117,11 @@ def main(argv=None):
         f"previous ensemble kernel (angle stored): "
         f"{res['previous_ensemble_particle_steps_per_s']:.3g} particle-steps/s  "
         f"(present x{res['ensemble_speedup_vs_previous']:.2f})"
+    )
+    print(
+        f"float32 step until issue 39 (Taylor sincos, kick with h rounded): "
+        f"{res['float32_taylor_ensemble_particle_steps_per_s']:.3g} particle-steps/s  "
+        f"(present x{res['ensemble_speed_vs_float32_taylor']:.3f})"
     )
     return res
 

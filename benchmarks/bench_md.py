@@ -10,7 +10,10 @@ active time origins (measured in a fresh subprocess).
 
 It also times the bath of one MD(bath) realisation (t = 1000, dt = 0.05) at N_b = n both ways,
 exact orbits against integration (`exact_bath_speedup` in --json, CPU time), and includes the
-ensemble engine's figure of issue 14 (benchmarks/bench_ensemble.py, keys `ensemble_*`).
+ensemble engine's figure of issue 14 (benchmarks/bench_ensemble.py, keys `ensemble_*`).  The
+full dynamics is also timed against the float32 step as it ran until issue 39
+(`previous_kernels.full_steps_float32_taylor`: Taylor sincos, kick with h rounded), alternately
+with the present one in the same run (`full_speed_vs_float32_taylor`: above 1, present faster).
 
 The numba kernels are compiled (warmed) on small arrays before any timing; no numba cache is
 used.  Timings are the best of several repetitions of wall-clock time.
@@ -157,16 +160,25 @@ def measure(n, threads, n_test_bath):
     previous_kernels.full_steps(tha[:100].copy(), pa[:100].copy(), Sa[:100].copy(), Ca[:100].copy(),
                             2, dt, M[0], M[1])  # fmt: skip
 
+    # and the float32 step as it ran until issue 39 (Taylor sincos, kick with h rounded), on a
+    # copy of the same float32 state
+    p32, S32, C32 = P.p.copy(), P.S.copy(), P.C.copy()
+    previous_kernels.full_steps_float32_taylor(p32[:100].copy(), S32[:100].copy(),
+                                               C32[:100].copy(), 2, dt, M[0], M[1])  # fmt: skip
+
     def present():
         integrator.advance_system(P, empty, dynamics="full", **steps)
 
     def previous():
         previous_kernels.full_steps(tha, pa, Sa, Ca, n_steps, dt, M[0], M[1])
 
-    wall = {present: np.inf, previous: np.inf}
-    cpu = {present: np.inf, previous: np.inf}
+    def before_fix():
+        previous_kernels.full_steps_float32_taylor(p32, S32, C32, n_steps, dt, M[0], M[1])
+
+    wall = {present: np.inf, previous: np.inf, before_fix: np.inf}
+    cpu = {present: np.inf, previous: np.inf, before_fix: np.inf}
     for _ in range(5):
-        for fn in (present, previous):
+        for fn in (present, previous, before_fix):
             wall[fn] = min(wall[fn], best_of(fn, reps=1))
             # load-robust figure: one thread, CPU time of this process (what a core delivers)
             numba.set_num_threads(1)
@@ -175,6 +187,7 @@ def measure(n, threads, n_test_bath):
             cpu[fn] = min(cpu[fn], time.process_time() - c0)
             numba.set_num_threads(threads)
     t_full, t_prev, cpu_prev = wall[present], wall[previous], cpu[previous]
+    t_fix, cpu_fix = wall[before_fix], cpu[before_fix]
     cpu = cpu[present]
     B, T = integrator.Particles(th, p), integrator.Particles(th_t, p_t)
     t_bath = best_of(lambda: integrator.advance_system(B, T, dynamics="bath", **steps))
@@ -196,6 +209,8 @@ def measure(n, threads, n_test_bath):
         "full_psteps_per_cpu_s_1thread": n * n_steps / cpu,
         "previous_full_psteps_per_s": n * n_steps / t_prev,
         "previous_full_psteps_per_cpu_s_1thread": n * n_steps / cpu_prev,
+        "float32_taylor_full_psteps_per_s": n * n_steps / t_fix,
+        "float32_taylor_full_psteps_per_cpu_s_1thread": n * n_steps / cpu_fix,
         "bath_psteps_per_s": (n + n_test_bath) * n_steps / t_bath,
         "numpy_psteps_per_s": n * n_np / t_np_full,
         "numpy_bath_psteps_per_s": (n + n_test_bath) * n_np / t_np_bath,
@@ -211,6 +226,8 @@ def measure(n, threads, n_test_bath):
     }
     res["full_speedup_vs_numpy"] = res["full_psteps_per_s"] / res["numpy_psteps_per_s"]
     res["full_speedup_vs_previous"] = res["full_psteps_per_s"] / res["previous_full_psteps_per_s"]
+    res["full_speed_vs_float32_taylor"] = t_fix / t_full
+    res["full_speed_vs_float32_taylor_cpu_1thread"] = cpu_fix / cpu
     res["bath_speedup_vs_numpy"] = res["bath_psteps_per_s"] / res["numpy_bath_psteps_per_s"]
     res["actions_speedup_vs_numpy"] = (
         res["numpy_actions_seconds_per_5e5"] / res["actions_seconds_per_5e5"]
@@ -351,6 +368,13 @@ def main(argv=None):
         f"{res['previous_full_psteps_per_s']:.3g} particle-steps/s, 1 thread per CPU second "
         f"{res['previous_full_psteps_per_cpu_s_1thread']:.3g}  "
         f"(present x{res['full_speedup_vs_previous']:.2f})"
+    )
+    print(
+        f"float32 step until issue 39 (Taylor sincos, kick with h rounded): "
+        f"{res['float32_taylor_full_psteps_per_s']:.3g} particle-steps/s, 1 thread per CPU "
+        f"second {res['float32_taylor_full_psteps_per_cpu_s_1thread']:.3g}  (present "
+        f"x{res['full_speed_vs_float32_taylor']:.3f}, per CPU second "
+        f"x{res['full_speed_vs_float32_taylor_cpu_1thread']:.3f})"
     )
     print(
         f"bath dynamics:  {res['bath_psteps_per_s']:.3g} particle-steps/s   "

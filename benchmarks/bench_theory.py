@@ -113,7 +113,7 @@ def main():
 
     # baseline on a few points, extrapolated to the same grid
     rng = np.random.default_rng(0)
-    Om = ds["Omega"].values[ds["separatrix_mask"].values == 0]
+    Om = ds["Omega_orbit"].values[ds["separatrix_mask"].values == 0]
     oms = rng.choice(Om, args.baseline_points) * rng.integers(1, 7, args.baseline_points)
     t0 = time.perf_counter()
     for w in oms:

@@ -6,6 +6,13 @@ rotate (sin theta, cos theta) by the drift angle (`hmfdiff.dynamics.integrator`)
 <dJ^2> accumulator as it ran until 2026-11-27 (`PreviousDisplacementAccumulator`: every
 (origin, particle) pair added into its bin's cell, in particle index order), where the present
 one keeps each origin's particles sorted by bin and in the order of their J-bar.
+
+Also the float32 step as it ran until issue 39 (`full_steps_float32_taylor`,
+`ensemble_steps_float32_taylor`): the present kernels' arithmetic but for the drift's sincos
+by float32 Taylor polynomials and the kick p + h (Fy C - Fx S) with h rounded to float32, the
+two roundings with a sign that made its energy drift; they give the library's kernels of
+before to the bit (checked against them when written: p, sin, cos and M after 100-300 steps
+of `advance_system` and `Ensemble.advance`).
 """
 
 from __future__ import annotations
@@ -13,7 +20,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from hmfdiff.dynamics import accumulator, elementary
+from hmfdiff.dynamics import accumulator, elementary, integrator
 
 _CHUNK = elementary._CHUNK
 
@@ -141,3 +148,154 @@ class PreviousDisplacementAccumulator(accumulator.DisplacementAccumulator):
         if slots.size:
             _accumulate_kernel(J, Jbar, slots, lags, blocks, self.J0_all, self.lib0_all,
                                self.bin0, self.acc)  # fmt: skip
+
+
+# ---------------------------------------------------------------------------------------------
+# the float32 step until issue 39
+# ---------------------------------------------------------------------------------------------
+_D1f, _D2f, _D3f = (np.float32((-1) ** k / np.prod(np.arange(1.0, 2 * k + 2))) for k in range(1, 4))
+_E2f, _E3f, _E4f = (np.float32((-1) ** k / np.prod(np.arange(1.0, 2 * k + 1))) for k in range(2, 5))
+_HALF_F = np.float32(0.5)
+_ONE_F = np.float32(1.0)
+
+
+@numba.njit(fastmath={"contract"})
+def taylor_sincos32(d):
+    """(sin d, cos d) of a float32 d, |d| <= DRIFT_MAX, by the Taylor series through d^7, d^8."""
+    z = d * d
+    s = d + d * z * (_D1f + z * (_D2f + z * _D3f))
+    c = _ONE_F - _HALF_F * z + z * z * (_E2f + z * (_E3f + z * _E4f))
+    return s, c
+
+
+@numba.njit(fastmath={"contract"})
+def taylor_sincos32_short(d):
+    """The same through d^5, d^6 (|d| <= DRIFT_SHORT)."""
+    z = d * d
+    s = d + d * z * (_D1f + z * _D2f)
+    c = _ONE_F - _HALF_F * z + z * z * (_E2f + z * _E3f)
+    return s, c
+
+
+@numba.njit(fastmath=elementary._FM)
+def _chunk_step32(p, S, C, h, dt, Fx, Fy, p_bound):
+    drift_bound = abs(dt) * (p_bound + abs(h) * (abs(Fx) + abs(Fy)))
+    h32 = np.float32(h)
+    dt32 = np.float32(dt)
+    fx = np.float32(Fx)
+    fy = np.float32(Fy)
+    sc = np.float32(0.0)
+    ss = np.float32(0.0)
+    if drift_bound <= elementary.DRIFT_SHORT:
+        for i in range(p.size):
+            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            sd, cd = taylor_sincos32_short(dt32 * pi_)
+            s2 = S[i] * cd + C[i] * sd
+            c2 = C[i] * cd - S[i] * sd
+            sc += c2
+            ss += s2
+            p[i] = pi_
+            S[i] = s2
+            C[i] = c2
+    elif drift_bound <= elementary.DRIFT_MAX:
+        for i in range(p.size):
+            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            sd, cd = taylor_sincos32(dt32 * pi_)
+            s2 = S[i] * cd + C[i] * sd
+            c2 = C[i] * cd - S[i] * sd
+            sc += c2
+            ss += s2
+            p[i] = pi_
+            S[i] = s2
+            C[i] = c2
+    else:
+        for i in range(p.size):
+            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            d = dt * np.float64(pi_)
+            d = d - elementary._TWO_PI * np.floor(d * elementary._INV_TWO_PI + 0.5)
+            sd64, cd64 = elementary._sincos_wrapped(d)
+            sd = np.float32(sd64)
+            cd = np.float32(cd64)
+            s2 = S[i] * cd + C[i] * sd
+            c2 = C[i] * cd - S[i] * sd
+            sc += c2
+            ss += s2
+            p[i] = pi_
+            S[i] = s2
+            C[i] = c2
+    return np.float64(sc), np.float64(ss)
+
+
+@numba.njit
+def _chunk_advance32(p, S, C, h, dt, Fx, Fy, bound, path, periodic):
+    grow = abs(h) * (abs(Fx) + abs(Fy))
+    if periodic:
+        integrator._chunk_normalise(S, C)
+    bound, path = integrator._refreshed_bound(p, bound, path, periodic, grow, dt)
+    a, b = _chunk_step32(p, S, C, h, dt, Fx, Fy, bound)
+    return a, b, bound + grow, path
+
+
+@numba.njit(parallel=True)
+def full_steps_float32_taylor(p, S, C, n_steps, dt, fx, fy):
+    """n_steps fused MD(full) steps of one system (float32 p, S, C) by the step until issue 39
+    (as `integrator.advance_system` 'full' with no test particles: the opening and the closing
+    half kicks included); returns the last (Mx, My)."""
+    n = p.size
+    n_chunks = (n + _CHUNK - 1) // _CHUNK
+    part_c = np.zeros(n_chunks)
+    part_s = np.zeros(n_chunks)
+    bound = np.zeros(n_chunks)
+    path = np.zeros(n_chunks, dtype=np.int64)
+    h = 0.5 * dt
+    for j in range(n_steps):
+        periodic = j % integrator._BOUND_REFRESH == 0
+        for ch in numba.prange(n_chunks):
+            lo = ch * _CHUNK
+            hi = min(lo + _CHUNK, n)
+            part_c[ch], part_s[ch], bound[ch], path[ch] = _chunk_advance32(
+                p[lo:hi], S[lo:hi], C[lo:hi], h, dt, fx, fy, bound[ch], path[ch], periodic
+            )
+        tc = 0.0
+        ts = 0.0
+        for ch in range(n_chunks):
+            tc += part_c[ch]
+            ts += part_s[ch]
+        fx = tc / max(n, 1)
+        fy = ts / max(n, 1)
+        h = dt
+    integrator._kick(p, S, C, 0.5 * dt, fx, fy)
+    return fx, fy
+
+
+@numba.njit(fastmath={"contract"}, parallel=True)
+def ensemble_steps_float32_taylor(p, S, C, M, n_steps, dt):
+    """`ensemble._ensemble_steps` with the step until issue 39 (closing half kick included)."""
+    R, N = p.shape
+    h = 0.5 * dt
+    n_chunks = (N + _CHUNK - 1) // _CHUNK
+    for r in numba.prange(R):
+        fx = M[r, 0]
+        fy = M[r, 1]
+        kick = h
+        bound = np.zeros(n_chunks)
+        path = np.zeros(n_chunks, dtype=np.int64)
+        for j in range(n_steps):
+            tc = 0.0
+            ts = 0.0
+            periodic = j % integrator._BOUND_REFRESH == 0
+            for ch in range(n_chunks):
+                lo = ch * _CHUNK
+                hi = min(lo + _CHUNK, N)
+                a, b, bound[ch], path[ch] = _chunk_advance32(
+                    p[r, lo:hi], S[r, lo:hi], C[r, lo:hi], kick, dt, fx, fy, bound[ch], path[ch],
+                    periodic,
+                )  # fmt: skip
+                tc += a
+                ts += b
+            fx = tc / N
+            fy = ts / N
+            kick = dt
+        integrator._kick(p[r], S[r], C[r], h, fx, fy)
+        M[r, 0] = fx
+        M[r, 1] = fy

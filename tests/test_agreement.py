@@ -2,6 +2,8 @@
 the median and mean ratio, the fraction within |z| < 2 and the mean z^2 against their expected
 values, the |z| > 3 bins named, and the CSV round trip."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -170,3 +172,41 @@ def test_bins_beside_the_separatrix_band_are_counted_apart():
     block = readme_block(rows)
     assert "| *beside the separatrix band* | all | 2 |" in block
     assert "- a full kappa0 = 0.940 (ratio 1.300, z = +4.0) [beside the separatrix band]" in block
+
+
+# ---- no statistics where there are none (issue 36) ------------------------------------------
+def test_lines_with_fewer_than_four_seeds_print_no_statistics():
+    """With n_seeds <= 3 Student t has nu <= 2 and an infinite E[z^2] (the smoke run's MD(full)
+    has 2 seeds and printed 'inf'): such a line, and a pooled line holding it, says 'no
+    statistics' instead of numbers; a line of 4 seeds keeps them."""
+    few = [_row("a", "full", 1.0 + 0.1 * i, 0.5 * i, n_seeds=3) for i in range(4)]
+    four = [_row("b", "bath", 1.0 + 0.1 * i, 0.5 * i, n_seeds=4) for i in range(4)]
+    text = summary_text(few + four)
+    assert not re.search(r"\b(inf|nan)\b", text), text
+    lines = {line.split(":")[0]: line for line in text.splitlines() if ":" in line}
+    assert lines["a full vs Lenard-Balescu"].endswith(
+        ": 4 bins, 3 seeds: no statistics (below 4 seeds Student t's expected z^2 is infinite)"
+    )
+    assert lines["pooled, all lines"].startswith("pooled, all lines: 8 bins, 3-4 seeds: no stat")
+    # nu = 3: median |t_3| = 0.7649 (x sigma 0.1), P(|t_3| < 2) = 0.861, E[t^2] = 3; the rows:
+    # |ratio - 1| = 0, 0.1, 0.2, 0.3, z = 0, 0.5, 1, 1.5 (mean z^2 0.875)
+    assert lines["b bath vs Landau"] == (
+        "b bath vs Landau: 4  0.150 (0.076)  1.150 +- 0.065  1.00 (0.86)  0.88 (3.00)"
+    )
+
+
+def test_toy_size_summary_says_it_has_no_statistics():
+    """Where the workflow passes an N below TOY_SIZE (the smoke config: N = 5000, mean ratio
+    '113.864 +- 112.739' from one bin of a near-zero theory) the first line says there are no
+    statistics and each line gives only bins, seeds and the median |ratio - 1|."""
+    rows = [_row("a", "bath", r, z, n_seeds=10) for r, z in ((1.2, 1.0), (478.7, 3.8), (0.9, -1))]
+    text = summary_text(rows, sizes={"a": 5000, "b": 500000})
+    first, *rest = text.splitlines()
+    assert first.startswith("TOY SIZE, NO STATISTICS (a N = 5000: below N = 1e+05")
+    assert "b N =" not in first
+    assert "a bath vs Landau: 3 bins, 10 seeds, median |ratio - 1| 0.200; no statistics" in text
+    for word in ("+-", "expected", "478", "|z| >", "mean"):
+        assert word not in "\n".join(rest), word
+    # at paper size the same rows give the numbers
+    assert summary_text(rows, sizes={"a": 500000}) == summary_text(rows)
+    assert "+-" in summary_text(rows)

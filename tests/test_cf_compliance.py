@@ -7,7 +7,10 @@ raise no error: no result of weight 3 (the checker's "high priority", i.e. a vio
 CF "shall") that failed.  Errors seen before this test: HMF unit descriptions that UDUNITS does
 not parse, a dimension named `time` (CF then demands '<unit> since <epoch>', impossible for the
 dimensionless HMF time), flag_values stored as text and flag meanings that are not single
-words.  Warnings (weight 2, e.g. Omega and omega in one file) are allowed.
+words.  Warnings (weight 2) are allowed, except the one about names that differ only by case
+(the theory file held Omega and omega; the orbital frequency is Omega_orbit there now).  The
+integer types are also held to CF 1.8, which knows no 64-bit integers (the MD counters were
+int64; `io.write_dataset` stores integers that fit in int32, all of them at paper size).
 
 The units rule is enforced at the source: `layouts.variable`, `io.scalar` and
 `io.write_dataset` refuse a unit string that is neither CF ("1", "rad") nor a named HMF
@@ -42,8 +45,9 @@ def smoke_files(tmp_path_factory):
     return files
 
 
-def cf_errors(files):
-    """(file name, message) for every failed weight-3 result of the CF 1.10 suite."""
+def cf_errors(files, cf=CF, weight=3, section=None):
+    """(file name, message) for every failed result of the CF suite `cf` of weight `weight`, or
+    of any weight in the section whose name starts with `section` (e.g. "§2.2")."""
     from compliance_checker.runner import CheckSuite
 
     suite = CheckSuite()
@@ -54,11 +58,12 @@ def cf_errors(files):
     for path in files:
         ds = suite.load_dataset(str(path))
         try:
-            groups = suite.run_all(ds, [CF], skip_checks=[])[CF][0]
+            groups = suite.run_all(ds, [cf], skip_checks=[])[cf][0]
         finally:
             ds.close()
         for g in groups:
-            if g.weight == 3 and g.value[0] < g.value[1]:
+            chosen = g.name.startswith(section) if section else g.weight == weight
+            if chosen and g.value[0] < g.value[1]:
                 errors += [(str(path), msg) for msg in (g.msgs or [g.name])]
     return errors
 
@@ -107,6 +112,55 @@ def test_every_kind_of_smoke_output_passes_the_cf_checker(smoke_files):
     errors = cf_errors(one_per_structure(smoke_files))
     listing = "\n".join(f"{f.split('results/')[-1]}: {m}" for f, m in errors[:40])
     assert not errors, f"{len(errors)} CF errors:\n{listing}"
+
+
+def test_no_smoke_output_has_names_equal_but_for_case(smoke_files):
+    """CF 2.3: variable names must not differ by case only (a warning of the checker): the
+    theory file held the orbital frequency Omega beside the frequency coordinate omega."""
+    errors = cf_errors(one_per_structure(smoke_files), section="§2.3")
+    assert not errors, errors
+    for path in smoke_files:
+        with netCDF4.Dataset(path) as nc:
+            names = list(nc.variables) + list(nc.dimensions)
+            lower = {n.lower() for n in set(names)}
+            assert len(lower) == len(set(names)), (path, sorted(names))
+
+
+def test_integer_types_meet_cf_1_8(smoke_files):
+    """CF 1.8 knows no 64-bit integers (its §2.2): every counter, index and size of every kind
+    of smoke output is stored in 32 bits (the MD files' counts were int64)."""
+    errors = cf_errors(one_per_structure(smoke_files), cf="cf:1.8", section="§2.2")
+    listing = "\n".join(f"{f.split('results/')[-1]}: {m}" for f, m in errors[:40])
+    assert not errors, f"{len(errors)} CF 1.8 data-type errors:\n{listing}"
+
+
+def test_integers_stored_in_32_bits_where_they_fit_and_read_as_int64(tmp_path):
+    """write_dataset stores a 64-bit integer variable in 32 bits when its values fit (its
+    valid_min / valid_max / flag_values in the same type, CF 2.5.1), keeps 64 bits beyond, and
+    read_dataset gives int64 back (a sum over many seed files cannot overflow 32 bits)."""
+    big = np.array([0, 2**31], dtype=np.int64)  # 2^31 > int32 max
+    ds = xr.Dataset(
+        {
+            "count": layouts.variable(
+                ("bin",), np.array([3, 6_120_000]), "1", "c", valid=(0, None)
+            ),
+            "big": layouts.variable(("bin",), big, "1", "beyond int32", valid=(0, None)),
+            "flag": layouts.variable(("bin",), np.array([0, 1], dtype=np.int8), "1", "f"),
+        },
+        coords={"bin": layouts.variable(("bin",), np.arange(2), "1", "bin index")},
+    )
+    io.write_dataset(ds, tmp_path / "x.nc", title="test")
+    with netCDF4.Dataset(tmp_path / "x.nc") as nc:
+        kinds = {name: str(v.dtype) for name, v in nc.variables.items()}
+        assert nc["count"].getncattr("valid_min").dtype == np.int32
+        assert nc["big"].getncattr("valid_min").dtype == np.int64
+        assert list(nc["count"][:]) == [3, 6_120_000] and list(nc["big"][:]) == [0, 2**31]
+    assert kinds == {"count": "int32", "big": "int64", "flag": "int8", "bin": "int32"}
+    back = io.read_dataset(tmp_path / "x.nc")
+    assert back["count"].dtype == np.int64 and back["bin"].dtype == np.int64
+    assert back["flag"].dtype == np.int8
+    total = sum(back["count"].values for _ in range(400))  # 2.4e9 > int32 max
+    assert total[1] == 400 * 6_120_000
 
 
 def test_every_smoke_output_has_a_specific_title_and_cf_units(smoke_files):

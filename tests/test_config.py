@@ -502,7 +502,10 @@ SCALING = ("md_scaling", "studies", "thermal_u-0.1")
         (
             FIG15,
             ["thermal_u-0.1", "thermal_M0.9"],
-            ["figure 'fig15_scaling': case 'thermal_M0.9' has no study under md_scaling.studies"],
+            [
+                "figure 'fig15_scaling': case 'thermal_M0.9' (field 'cases') has no study under "
+                "md_scaling.studies"
+            ],
         ),
         (
             ("relaxation_rates", "runs", "thermal_M0.9"),
@@ -513,19 +516,19 @@ SCALING = ("md_scaling", "studies", "thermal_u-0.1")
             ("figures", "fig16_relaxation_rates", "case"),
             "thermal_M0.9",
             [
-                "figure 'fig16_relaxation_rates': case 'thermal_M0.9' has no run under "
-                "relaxation_rates.runs"
+                "figure 'fig16_relaxation_rates': case 'thermal_M0.9' (field 'case') has no run "
+                "under relaxation_rates.runs"
             ],
         ),
         (
             FIG14,
             ["thermal_u-0.1", "twostep_ch"],
-            ["spectrum case 'twostep_ch' (figure 'fig14_spectrum')", "no smooth f"],
+            ["figure 'fig14_spectrum': case 'twostep_ch' (field 'cases') has no run under md.runs"],
         ),
         (
             FIG14,
             ["thermal_M0.9"],
-            ["spectrum case 'thermal_M0.9' (figure 'fig14_spectrum')", "no MD run under md.runs"],
+            ["figure 'fig14_spectrum': case 'thermal_M0.9'", "has no run under md.runs"],
         ),
     ],
 )
@@ -653,3 +656,85 @@ def test_relaxation_rates_needs_two_realisations_at_every_size():
     )
     _edit(cfg, ("relaxation_rates", "runs", "corehalo_ch2", "n_particles"), [200, 800])
     check_config(cfg)
+
+
+# ---- every figure's cases have the runs that make its inputs (issue 36) -------------------
+#: per figure of the registry, a smoke case that lacks what one of its inputs is made from, and
+#: the words of the refusal: MD runs (fits, windowed, spectrum), 1/N studies, kinetic
+#: relaxations, N-body relaxations, early-window ensembles, a theory grid (smooth states only)
+FIG_LACKS = {
+    "fig04_contributions": ("cases", "twostep_ch", "no theory grid", "theory/twostep_ch.nc"),
+    "fig05_dielectric": ("case", "twostep_ch", "no theory grid", "theory/twostep_ch.nc"),
+    "fig06_landau_lenard_balescu": ("cases", "twostep_ch", "no theory grid", "theory/"),
+    "fig08_dj2": ("cases", "thermal_M0.9", "no run under md.runs", "fits/thermal_M0.9_full.nc"),
+    "fig09_md_thermal": ("cases", "thermal_M0.9", "no run under md.runs", "fits/thermal_M0.9_"),
+    "fig10_md_corehalo": ("cases", "thermal_M0.9", "no run under md.runs", "fits/thermal_M0.9_"),
+    "fig14_spectrum": ("cases", "thermal_M0.9", "no run under md.runs", "spectrum/thermal_M0.9"),
+    "fig15_scaling": ("cases", "thermal_M0.9", "no study under md_scaling.studies", "scaling/"),
+    "fig11_relaxation": ("cases", "thermal_u-0.1", "no run under relaxation.runs", "relaxation/"),
+    "fig12_relaxation_md": ("cases", "thermal_u-0.1", "no run under relaxation_md.runs", "rel"),
+    "fig13_relaxation_time": ("cases", "thermal_u-0.1", "no run under relaxation_md.runs", "re"),
+    "fig16_relaxation_rates": ("case", "thermal_u-0.1", "no run under relaxation_rates.runs", ""),
+}
+#: figures whose inputs any case of the right kind can have: orbits and closed forms of any
+#: state, fig07's theory of a core_halo or thermal state (the kind is checked per field)
+FIG_ANY_CASE = {"fig01_orbits", "fig02_action_frequency", "fig03_poles", "fig07_closed_forms"}
+
+
+def test_every_figure_of_the_registry_has_its_refusal_tested():
+    from hmfdiff.analysis.figures.registry import FIGURES
+
+    assert set(FIG_LACKS) | FIG_ANY_CASE == set(FIGURES)
+    assert not set(FIG_LACKS) & FIG_ANY_CASE
+
+
+def test_every_input_of_the_registry_has_a_maker_checked():
+    """Each input pattern of the registry names the run it comes from in the config check (a
+    new kind of input needs its entry, or every figure drawing it is refused as unknown)."""
+    from hmfdiff.analysis.figures.registry import FIGURES
+    from hmfdiff.pipeline.config import _input_makers, check_config, input_maker
+
+    makers = _input_makers(check_config(SMOKE))
+    for fig in FIGURES.values():
+        for inp in fig.inputs:
+            assert input_maker(inp.pattern) in makers, (fig.name, inp.pattern)
+
+
+@pytest.mark.parametrize("fig", sorted(FIG_LACKS))
+def test_figure_naming_a_case_without_its_inputs_is_refused(fig):
+    """The smoke config with one figure naming a case that exists but has no run making one of
+    the figure's inputs: refused in one line naming the figure, the case, the field, what it
+    lacks, the input and the allowed cases (which, put in its place, pass)."""
+    key, case, lacks, path = FIG_LACKS[fig]
+    cfg = copy.deepcopy(SMOKE)
+    good = cfg["figures"][fig][key]
+    cfg["figures"][fig][key] = case if key == "case" else [*good, case]
+    msg = _refused(cfg, f"figure '{fig}': case '{case}' (field '{key}') has {lacks}", path)
+    allowed = msg.split("; allowed: ")[1].split(", ")
+    assert case not in allowed
+    for c in [good] if isinstance(good, str) else good:
+        assert c in allowed
+    cfg["figures"][fig][key] = allowed[0] if key == "case" else allowed
+    if "theory" not in lacks:  # every smooth case has a theory grid, not every case an MD run
+        check_config(cfg)
+
+
+def test_early_window_figure_needs_the_full_relaxation_too():
+    """Figure 16 draws both the early-window study and the full N-body relaxation (figure 13's
+    rate): a case with the first and not the second is refused by its second input."""
+    cfg = copy.deepcopy(SMOKE)
+    cfg["relaxation"]["runs"]["thermal_u-0.1"] = {}
+    cfg["relaxation_rates"]["runs"] = {"thermal_u-0.1": {"n_particles": [400]}}
+    cfg["figures"]["fig16_relaxation_rates"] = {"case": "thermal_u-0.1"}
+    _refused(
+        cfg,
+        "figure 'fig16_relaxation_rates': case 'thermal_u-0.1' (field 'case') has no run under "
+        "relaxation_md.runs, so its input relaxation_comparison/thermal_u-0.1.nc cannot be made",
+        "allowed: corehalo_ch2",
+    )
+
+
+def test_unknown_figure_is_refused_with_the_nearest_name():
+    cfg = copy.deepcopy(SMOKE)
+    cfg["figures"]["fig09_md_thermel"] = cfg["figures"].pop("fig09_md_thermal")
+    _refused(cfg, "figures: unknown figure 'fig09_md_thermel'", "did you mean 'fig09_md_thermal'")

@@ -265,7 +265,7 @@ BAD = [
         "spectrum_not_md",
         edited(figures__fig14_spectrum={"cases": ["thermal_u-0.1", "thermal_M0.9"]}),
         [],
-        ["spectrum case 'thermal_M0.9' (figure 'fig14_spectrum')", "no MD run under md.runs"],
+        ["figure 'fig14_spectrum': case 'thermal_M0.9'", "has no run under md.runs"],
     ),
     (
         "relaxation_md_dt",
@@ -284,6 +284,17 @@ BAD = [
         edited(figures__fig07_closed_forms=FIG7),
         [],
         ["figure 'fig07_closed_forms'", "'two_step'", "'thermal_M0.9' of kind 'thermal'"],
+    ),
+    (
+        # issue 36: once accepted, the job failed after 5 s ("Missing files") and deleted the figure
+        "override_figure_case_without_md",
+        SMOKE_TEXT,
+        ["--config", "figures={fig09_md_thermal: {cases: [thermal_u-0.1, thermal_M0.9]}}"],
+        [
+            "figure 'fig09_md_thermal': case 'thermal_M0.9' (field 'cases') has no run under "
+            "md.runs",
+            "allowed: corehalo_ch2, thermal_u-0.1",
+        ],
     ),
     (
         "override_not_multiple",

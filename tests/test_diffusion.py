@@ -310,7 +310,7 @@ def test_theory_dataset_contract():
     for v in (
         "J",
         "Jbar",
-        "Omega",
+        "Omega_orbit",
         "D_landau",
         "D_lenard_balescu",
         "Dpol_landau",

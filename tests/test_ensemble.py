@@ -14,7 +14,7 @@ from hmfdiff.meanfield.equilibrium import ThermalState
     "M0, dt, n_steps",
     [
         (0.7, 0.05, 100),
-        # hot (T ~ 0.5) at a long step: the chunks on the long Taylor path (drift angles up to
+        # hot (T ~ 0.5) at a long step: the chunks on the long polynomial path (drift angles up to
         # ~0.4), which the first case never takes
         (0.2, 0.15, 300),
     ],

@@ -338,3 +338,80 @@ def test_reading_the_registry_leaves_pyplot_unimported():
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-2000:]
+
+
+# ---- what a first look at the smoke figures met (issue 36) ----------------------------------
+def _agg_renderer(figure):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(figure)
+    canvas.draw()
+    return canvas.get_renderer()
+
+
+@pytest.mark.parametrize("name", list(FIGURES))
+def test_every_figure_has_a_super_title_and_no_colliding_tick_labels_or_nan(drawn, name):
+    """Every figure carries a super-title (7, 11, 12, 16 had none); no two tick labels of an
+    axis, major or minor, overlap (figure 16 (b, c): the log axis autoscaled to 400-432 around
+    the smoke config's one size and wrote 4.05, 4.1, ... x 10^2 into each other); no text says
+    NaN (figure 11's legend read 'tau_R^fine = NaN' where no relaxation time was reached)."""
+    figure = drawn[name]
+    assert figure.get_suptitle(), name
+    renderer = _agg_renderer(figure)
+    for ax in figure.axes:
+        for which in "xy":
+            labels = [
+                t
+                for minor in (False, True)
+                for t in getattr(ax, f"get_{which}ticklabels")(minor=minor)
+                if t.get_visible() and t.get_text()
+            ]
+            boxes = [t.get_window_extent(renderer) for t in labels]
+            for i in range(len(boxes)):
+                for j in range(i + 1, len(boxes)):
+                    assert not boxes[i].overlaps(boxes[j]), (
+                        name,
+                        ax.get_title(),
+                        labels[i].get_text(),
+                        labels[j].get_text(),
+                    )
+    for text in texts(figure) + [t.get_text() for ax in figure.axes for t in ax.texts]:
+        assert "NaN" not in text, (name, text)
+
+
+def test_fig11_shows_tau_0_and_says_when_tau_R_was_not_reached(drawn, tmp_path_factory):
+    """Panels (c, d) of figure 11 (M0 and S against tau) include the initial state, tau = 0,
+    which a log axis hid; where the run ended before the entropy deficit fell by e, the legend
+    says that tau_R^fine was not reached by the run's last tau (the smoke run's case)."""
+    workdir = smoke_workdir(tmp_path_factory)
+    spec = yaml.safe_load((workdir / SMOKE).read_text())["figures"]["fig11_relaxation"]
+    results = workdir / "results" / "smoke"
+    axes = main_axes(drawn["fig11_relaxation"])
+    for row, case in enumerate(spec["cases"]):
+        runs = [
+            read_dataset(results / f"relaxation/{case}_{eq}.nc")
+            for eq in ("landau", "lenard_balescu")
+        ]
+        for ax in axes[4 * row + 2 : 4 * row + 4]:
+            assert ax.get_xlim()[0] <= 0.0, ax.get_title()
+            assert any(0.0 in ln.get_xdata() for ln in ax.get_lines()), ax.get_title()
+        legend = " ".join(t.get_text() for t in axes[4 * row + 2].get_legend().get_texts())
+        for ds in runs:
+            if not np.isfinite(float(ds["tau_relax_fine"])):
+                assert f"not reached by $\\tau={style.sci(float(ds['tau'][-1]), 3)}$" in legend
+    assert any(
+        not np.isfinite(float(read_dataset(p)["tau_relax_fine"]))
+        for p in results.glob("relaxation/*.nc")
+    ), "the smoke run reaches tau_R: the 'not reached' branch is not exercised"
+
+
+def test_fig16_d_says_when_it_has_no_data(drawn, tmp_path_factory):
+    """Panel (d) of figure 16 (N / t_R of the full relaxation) says that it has no data where no
+    ensemble relaxed within its run (the smoke config), instead of an empty frame."""
+    workdir = smoke_workdir(tmp_path_factory)
+    spec = yaml.safe_load((workdir / SMOKE).read_text())["figures"]["fig16_relaxation_rates"]
+    cmp_ = read_dataset(workdir / f"results/smoke/relaxation_comparison/{spec['case']}.nc")
+    ax = main_axes(drawn["fig16_relaxation_rates"])[3]
+    said = any("no data at this size" in t.get_text() for t in ax.texts)
+    assert said == (not np.isfinite(cmp_["t_relax_md"].values).any())
+    assert said, "the smoke run relaxes: the empty-panel branch is not exercised"

@@ -301,7 +301,7 @@ PHYSICAL_RANGES = {
         "M0": (0, 1),
     },
     r"theory/[^/]+\.nc": {
-        **dict.fromkeys(["J", "Jbar", "Omega", "kappa", "resonance"], NONNEG),
+        **dict.fromkeys(["J", "Jbar", "Omega_orbit", "kappa", "resonance"], NONNEG),
         **dict.fromkeys(["D_landau", "D_lenard_balescu"], NONNEG),  # N D_dif >= 0
         **dict.fromkeys(["gamma_landau", "gamma_lenard_balescu"], NONNEG),
         "resonance_kappa_star": NONNEG,

@@ -2,7 +2,6 @@ rule closed_forms:
     """The paper's closed forms for one case: sech^4 Landau D, two-step and appendix-C eps and D."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("closed_forms.py"),
     output:
         f"{RES}/analytic/{{case}}.nc",
     log:
@@ -14,6 +13,7 @@ rule closed_forms:
         mem_mb=1000,
         runtime=15,
     params:
+        library=library("closed_forms.py"),
         grid=lambda w: json.dumps(config["closed_forms"], sort_keys=True),
     script:
         "../scripts/closed_forms.py"

@@ -3,19 +3,20 @@
 import json
 
 
-def lib(script):
-    """The src/hmfdiff files that workflow/scripts/{script} imports, directly or through other
-    modules (read from the code by hmfdiff.pipeline.deps): editing one reruns the step.
+def library(script):
+    """A digest of the src/hmfdiff files that workflow/scripts/{script} imports, directly or
+    through other modules (read from the code by hmfdiff.pipeline.deps), for the rule's
+    `library` parameter: editing one of them reruns the step (Snakemake's params rerun trigger,
+    on by default; not with --rerun-triggers mtime), without listing the files in the log.
     """
     import os
 
-    from hmfdiff.pipeline.deps import library_files
+    from hmfdiff.pipeline.deps import library_digest
 
     base = workflow.basedir
-    files = library_files(
+    return library_digest(
         os.path.join(base, "workflow", "scripts", script), os.path.join(base, "src")
     )
-    return [os.path.relpath(f) for f in files]
 
 
 def case_spec(wildcards):

@@ -1,7 +1,5 @@
 rule equilibrium:
     """Equilibrium state of one case: beta or self-consistent M0, u, f(kappa), df/dkappa."""
-    input:
-        lib=lib("equilibrium.py"),
     output:
         f"{RES}/equilibrium/{{case}}.nc",
     log:
@@ -13,6 +11,7 @@ rule equilibrium:
         mem_mb=1000,
         runtime=15,
     params:
+        library=library("equilibrium.py"),
         spec=case_spec,
         grid=lambda w: json.dumps(config["grids"]["equilibrium"], sort_keys=True),
     script:

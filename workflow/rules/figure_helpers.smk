@@ -8,14 +8,12 @@ def figure_spec(name):
 
 
 def figure_inputs(wildcards):
-    """Input files of one figure: a list per kind of input, and the library it draws with."""
+    """Input files of one figure: a list per kind of input."""
     fig = FIGURES[wildcards.name]
-    files = {
+    return {
         kind: [f"{RES}/{path}" for path in paths]
         for kind, paths in fig.input_files(figure_spec(wildcards.name)).items()
     }
-    files["lib"] = lib("figure.py")
-    return files
 
 
 def figure_names():

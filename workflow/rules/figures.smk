@@ -24,6 +24,7 @@ rule figure:
         mem_mb=1000,
         runtime=15,
     params:
+        library=library("figure.py"),
         spec=lambda w: json.dumps(figure_spec(w.name), sort_keys=True),
         # the registry's caption as it reads (the report's template escapes it for RST)
         caption=lambda w: FIGURES[w.name].caption,

@@ -2,8 +2,6 @@ rule kernels:
     """Compile the MD kernels once into a shared numba cache (one per kernel version), which
     every MD job copies before it starts: no job compiles, and no two write one cache.
     """
-    input:
-        lib=lib("kernels.py"),
     output:
         directory(KERNELS),
     log:
@@ -14,6 +12,8 @@ rule kernels:
     resources:
         mem_mb=1500,
         runtime=15,
+    params:
+        library=library("kernels.py"),
     script:
         "../scripts/kernels.py"
 
@@ -27,7 +27,6 @@ rule md:
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         kernels=KERNELS,
-        lib=lib("md.py"),
     output:
         directory(f"{RES}/md/{{case}}/{{dynamics}}/seeds{{first}}-{{last}}"),
     log:
@@ -44,6 +43,7 @@ rule md:
         mem_mb=lambda w: md_mem_mb(w.case, w.dynamics),
         runtime=lambda w: md_runtime_min(w.case, w.dynamics, w.first, w.last),
     params:
+        library=library("md.py"),
         run=lambda w: md_run(w.case, w.dynamics).realisation_json(),
         seeds=lambda w: md_block(w.case, w.dynamics, w.first, w.last),
     script:
@@ -54,7 +54,6 @@ rule fit:
     """N*D_MD per J-bar_0 bin: half the slope of <dJ^2>(dt), pooled over seeds."""
     input:
         seeds=lambda w: md_folders(w.case, w.dynamics),
-        lib=lib("fit.py"),
     output:
         f"{RES}/fits/{{case}}_{{dynamics}}.nc",
     log:
@@ -68,6 +67,7 @@ rule fit:
         mem_mb=2000,
         runtime=15,
     params:
+        library=library("fit.py"),
         fit=lambda w: json.dumps(md_fit_spec(w.case), sort_keys=True),
         n_seeds=lambda w: md_run(w.case, w.dynamics).seeds,
     script:
@@ -80,7 +80,6 @@ rule windowed:
     input:
         fit=f"{RES}/fits/{{case}}_{{dynamics}}.nc",
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("windowed.py"),
     output:
         f"{RES}/windowed/{{case}}_{{dynamics}}.nc",
     log:
@@ -94,6 +93,7 @@ rule windowed:
         mem_mb=2000,
         runtime=15,
     params:
+        library=library("windowed.py"),
         n_max=config["theory"]["n_max"],
         l_max=config["theory"]["l_max"],
         separatrix_band=config["theory"]["separatrix_band"],
@@ -112,7 +112,6 @@ rule validation:
         windowed=[
             f"{RES}/windowed/{c}_{d}.nc" for c in md_cases() for d in ("bath", "full")
         ],
-        lib=lib("validation.py"),
     output:
         table=report(
             f"{RES}/validation.csv",
@@ -129,6 +128,7 @@ rule validation:
         mem_mb=2000,
         runtime=15,
     params:
+        library=library("validation.py"),
         cases=[c for c in md_cases() for d in ("bath", "full")],
         sizes={c: MD_RUNS[(c, "full")].n_particles for c in md_cases()},
     script:
@@ -143,7 +143,6 @@ rule spectrum:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         bath=lambda w: md_folders(w.case, "bath"),
         full=lambda w: md_folders(w.case, "full"),
-        lib=lib("spectrum.py"),
     output:
         f"{RES}/spectrum/{{case}}.nc",
     log:
@@ -155,6 +154,7 @@ rule spectrum:
         mem_mb=2000,
         runtime=15,
     params:
+        library=library("spectrum.py"),
         n_max=max(8, config["theory"]["n_max"]),
         l_max=config["theory"]["l_max"],
         seeds_bath=lambda w: md_run(w.case, "bath").seeds,
@@ -170,7 +170,6 @@ rule md_scaling:
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
         kernels=KERNELS,
-        lib=lib("md.py"),
     output:
         directory(f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/seeds"),
     log:
@@ -188,6 +187,7 @@ rule md_scaling:
             scaling_run(w.case, w.dynamics, w.n).seeds
         ),
     params:
+        library=library("md.py"),
         run=lambda w: scaling_run(w.case, w.dynamics, w.n).realisation_json(),
         seeds=lambda w: [0, scaling_run(w.case, w.dynamics, w.n).seeds - 1],
     script:
@@ -198,7 +198,6 @@ rule fit_scaling:
     """N*D_MD per bin at one N of the 1/N study, pooled over its seeds."""
     input:
         seeds=f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/seeds",
-        lib=lib("fit.py"),
     output:
         f"{RES}/scaling/{{case}}/{{dynamics}}/N{{n}}/fit.nc",
     log:
@@ -213,6 +212,7 @@ rule fit_scaling:
         mem_mb=2000,
         runtime=15,
     params:
+        library=library("fit.py"),
         fit=lambda w: json.dumps(
             scaling_run(w.case, w.dynamics, w.n).fit_settings(), sort_keys=True
         ),
@@ -232,7 +232,6 @@ rule scaling:
         ],
         theory=f"{RES}/theory/{{case}}.nc",
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("scaling.py"),
     output:
         f"{RES}/scaling/{{case}}_{{dynamics}}.nc",
     log:
@@ -246,6 +245,7 @@ rule scaling:
         mem_mb=1000,
         runtime=10,
     params:
+        library=library("scaling.py"),
         sizes=lambda w: scaling_sizes(w.case),
         kappa0=lambda w: SCALING_KAPPA0[w.case],
     script:

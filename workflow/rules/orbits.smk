@@ -2,7 +2,6 @@ rule orbits:
     """Action-angle variables J, Omega, derivatives and Fourier coefficients c_n, s_n on a kappa grid."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("orbits.py"),
     output:
         f"{RES}/orbits/{{case}}.nc",
     log:
@@ -14,6 +13,7 @@ rule orbits:
         mem_mb=1000,
         runtime=15,
     params:
+        library=library("orbits.py"),
         grid=lambda w: json.dumps(config["grids"]["orbits"], sort_keys=True),
     script:
         "../scripts/orbits.py"

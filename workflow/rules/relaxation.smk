@@ -2,7 +2,6 @@ rule relaxation:
     """Collisional relaxation f(J-bar, tau) of one case by the Landau or Lenard-Balescu equation."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("relaxation.py"),
     output:
         f"{RES}/relaxation/{{case}}_{{equation}}.nc",
     log:
@@ -17,6 +16,7 @@ rule relaxation:
         mem_mb=2000,
         runtime=60,
     params:
+        library=library("relaxation.py"),
         run=lambda w: relaxation_run(w.case),
     script:
         "../scripts/relaxation.py"

@@ -2,7 +2,6 @@ rule relaxation_md:
     """An ensemble of N-body relaxations (full dynamics) of one case at one N."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("relaxation_md.py"),
     output:
         f"{RES}/relaxation_md/{{case}}/N{{n}}.nc",
     log:
@@ -17,6 +16,7 @@ rule relaxation_md:
         mem_mb=2000,
         runtime=lambda w: relaxation_md_runtime_min(w.case, w.n),
     params:
+        library=library("relaxation_md.py"),
         run=lambda w: relaxation_md_run(w.case),
         initial="state",
     script:
@@ -28,7 +28,6 @@ rule relaxation_md_control:
     N, realisations, bins, time step and schedule (the measurement floor)."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("relaxation_md.py"),
     output:
         f"{RES}/relaxation_md/{{case}}/thermal/N{{n}}.nc",
     log:
@@ -43,6 +42,7 @@ rule relaxation_md_control:
         mem_mb=2000,
         runtime=lambda w: relaxation_md_runtime_min(w.case, w.n),
     params:
+        library=library("relaxation_md.py"),
         run=lambda w: relaxation_md_run(w.case),
         initial="thermal",
     script:
@@ -66,6 +66,7 @@ rule relaxation_comparison:
         mem_mb=2000,
         runtime=15,
     params:
+        library=library("relaxation_comparison.py"),
         cases=relaxation_md_cases(),
     script:
         "../scripts/relaxation_comparison.py"
@@ -76,7 +77,6 @@ rule relaxation_rates_md:
     of its energy (the control), at one N."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("relaxation_md.py"),
     output:
         f"{RES}/relaxation_rates/{{case}}/{{initial}}/N{{n}}.nc",
     log:
@@ -92,6 +92,7 @@ rule relaxation_rates_md:
         mem_mb=2000,
         runtime=lambda w: relaxation_rates_runtime_min(w.n),
     params:
+        library=library("relaxation_md.py"),
         run=lambda w: relaxation_rates_run(),
         initial=lambda w: w.initial,
     script:
@@ -113,5 +114,7 @@ rule relaxation_rates:
     resources:
         mem_mb=2000,
         runtime=15,
+    params:
+        library=library("relaxation_rates.py"),
     script:
         "../scripts/relaxation_rates.py"

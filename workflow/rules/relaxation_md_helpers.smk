@@ -59,7 +59,6 @@ def relaxation_comparison_inputs(wildcards=None):
         "control": relaxation_md_controls(),
         "kinetic": [f"{RES}/relaxation/{c}_{e}.nc" for c in cases for e in equations],
         "equilibrium": [f"{RES}/equilibrium/{c}.nc" for c in cases],
-        "lib": lib("relaxation_comparison.py"),
     }
 
 
@@ -106,7 +105,6 @@ def relaxation_rates_inputs(wildcards):
     return {
         "md": relaxation_rates_ensembles(wildcards.case),
         "kinetic": [f"{RES}/relaxation/{wildcards.case}_{e}.nc" for e in equations],
-        "lib": lib("relaxation_rates.py"),
     }
 
 

@@ -2,7 +2,6 @@ rule theory:
     """Dielectric tensor, Landau and Lenard-Balescu N*D_dif and N*D_pol, resonance contributions."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
-        lib=lib("theory.py"),
     output:
         f"{RES}/theory/{{case}}.nc",
     log:
@@ -14,6 +13,7 @@ rule theory:
         mem_mb=2000,
         runtime=30,
     params:
+        library=library("theory.py"),
         grid=lambda w: json.dumps(config["theory"], sort_keys=True),
     script:
         "../scripts/theory.py"

@@ -19,15 +19,16 @@ For each case and dynamics, and pooled over all of them:
   neighbour in bin order, in its own case and dynamics, is flagged for the separatrix: two per
   line) and over all the others.  Beside the band the particles diffuse, during the fit's lags,
   across structure of the theory's D narrower than that distance, which the asymptotic theory
-  does not see and the propagated one does (`analysis.propagated`, the README), so these bins
-  are counted apart rather than hidden.
+  does not see and the propagated one does (`analysis.propagated`, docs/validation.md), so these
+  bins are counted apart rather than hidden.
 
 The same for the finite-time (windowed) theory, with `ratio_windowed` and `z_windowed`, and for
 the propagated theory, with `ratio_propagated` and `z_propagated` (where the table has them).
 `python -m hmfdiff.analysis.agreement results/validation.csv` prints the summary; with
-`--markdown` the two tables, with `--readme` the block the README includes (both tables and the
-|z| > 3 bins by name), with `--update README.md` that block written between the README's
-markers.  The README's block comes from the reference copy of a full reproduction's table,
+`--markdown` the two tables, with `--readme` the block docs/validation.md includes (the tables
+and the |z| > 3 bins by name), with `--update PAGE` that block written between the page's
+markers (`python -m hmfdiff.analysis.agreement docs/reference/validation.csv --update
+docs/validation.md`).  The block comes from the reference copy of a full reproduction's table,
 docs/reference/validation.csv; `tests/test_readme_numbers.py` checks the two agree.
 """
 
@@ -80,6 +81,12 @@ TITLES = {
     "during the fit, which matters beside the separatrix):",
 }
 OUTLIER_Z = 3.0
+#: fewer seeds than this in a line's bins: no statistics are printed for it (with n_seeds <= 3
+#: Student t has nu <= 2 degrees of freedom and no finite variance: E[z^2] is infinite)
+MIN_SEEDS = 4
+#: below this N (every MD run of the smoke config) N*D_MD scatters by tens of per cent per bin
+#: and the summary prints no statistics at all, only what shows that the pipeline ran
+TOY_SIZE = 1e5
 #: flag of `fits.VALIDATION_FLAGS` for a bin within the separatrix band
 SEPARATRIX_FLAG = 2
 #: the pooled groups of `agreement` and how the summary names them
@@ -148,8 +155,9 @@ def _usable(rows, ratio, z):
 def agreement(rows, comparison="asymptotic"):
     """Statistics per (case, dynamics) and pooled ('all', 'all'), as a list of dicts with keys
     case, dynamics, theory, bins, median_dev, median_dev_expected, mean_ratio, mean_ratio_err,
-    frac_z2, frac_z2_expected, mean_z2, mean_z2_expected, outliers (list of rows with |z| > 3) and
-    outliers_expected (their number under Student t); then, pooled, the bins beside the
+    frac_z2, frac_z2_expected, mean_z2, mean_z2_expected, outliers (list of rows with |z| > 3),
+    outliers_expected (their number under Student t) and seeds (the fewest and the most
+    n_seeds of its bins); then, pooled, the bins beside the
     separatrix band ('beside separatrix', `beside_separatrix`) and all others ('elsewhere')."""
     ratio, z, theory_col, theory = COMPARISONS[comparison]
     keys = list(dict.fromkeys((r["case"], r["dynamics"]) for r in rows))
@@ -182,6 +190,7 @@ def agreement(rows, comparison="asymptotic"):
             mean_z2_expected=float(np.mean(z2)),
             outliers=[r for r in sel if abs(r[z]) > OUTLIER_Z],
             outliers_expected=float(np.sum(_p_outlier(dof))),
+            seeds=(min(dof) + 1, max(dof) + 1),
         )
     return out
 
@@ -202,20 +211,74 @@ def _selection_values(rows):
     return f" (here {said})"
 
 
-def summary_text(rows):
-    """The text of results/validation_summary.txt (asymptotic and windowed blocks)."""
-    lines = [f"Bins used: {SELECTION}{_selection_values(rows)}."]
-    lines.append(
-        "Expected values: Student t with n_seeds - 1 degrees of freedom (the MD error is the "
-        "standard error over independent realisations)."
+def _toy_header(sizes):
+    """The first line of a toy-size summary: which runs are below TOY_SIZE, and that the
+    summary holds no statistics ('' if none is)."""
+    toy = {c: n for c, n in (sizes or {}).items() if n < TOY_SIZE}
+    if not toy:
+        return ""
+    said = ", ".join(f"{c} N = {n}" for c, n in sorted(toy.items()))
+    return (
+        f"TOY SIZE, NO STATISTICS ({said}: below N = {TOY_SIZE:.0e}, where N*D_MD scatters by "
+        "tens of per cent per bin): the numbers below show that the pipeline ran end to end "
+        "and validate nothing about the theory; the paper-size comparison is `snakemake -j2` "
+        "with config/config.yaml."
     )
+
+
+def _seeds_said(e):
+    lo, hi = e["seeds"]
+    return f"{lo} seeds" if lo == hi else f"{lo}-{hi} seeds"
+
+
+def _summary_line(label, e, toy):
+    """One line of the summary: the statistics with their expectations, or, at toy size or
+    with fewer than MIN_SEEDS seeds, what was run and that there are no statistics."""
+    if not e["bins"]:
+        return f"{label}: no usable bins"
+    if toy:
+        return (
+            f"{label}: {e['bins']} bins, {_seeds_said(e)}, median |ratio - 1| "
+            f"{e['median_dev']:.3f}; no statistics at toy size"
+        )
+    if e["seeds"][0] < MIN_SEEDS:
+        return (
+            f"{label}: {e['bins']} bins, {_seeds_said(e)}: no statistics (below {MIN_SEEDS} "
+            "seeds Student t's expected z^2 is infinite)"
+        )
+    return (
+        f"{label}: {e['bins']}  {e['median_dev']:.3f} ({e['median_dev_expected']:.3f})  "
+        f"{e['mean_ratio']:.3f} +- {e['mean_ratio_err']:.3f}  "
+        f"{e['frac_z2']:.2f} ({e['frac_z2_expected']:.2f})  "
+        f"{e['mean_z2']:.2f} ({e['mean_z2_expected']:.2f})"
+    )
+
+
+def summary_text(rows, sizes=None):
+    """The text of results/validation_summary.txt (asymptotic and windowed blocks).
+
+    `sizes`: {case: N of its MD runs}, where known (the workflow's rule passes them; a
+    validation.csv does not hold them).  Where some N is below TOY_SIZE the summary says in
+    its first line that it holds no statistics, and gives per line only the bins, the seeds
+    and the median |ratio - 1|; elsewhere a line whose bins have fewer than MIN_SEEDS seeds
+    says the same instead of numbers."""
+    header = _toy_header(sizes)
+    toy = bool(header)
+    lines = [header] if toy else []
+    lines.append(f"Bins used: {SELECTION}{_selection_values(rows)}.")
+    if not toy:
+        lines.append(
+            "Expected values: Student t with n_seeds - 1 degrees of freedom (the MD error is "
+            "the standard error over independent realisations)."
+        )
     for comparison, (ratio, z, _, _) in _present(rows):
         lines.append("")
         lines.append(TITLES[comparison])
-        lines.append(
-            "case dynamics vs theory: bins  median|ratio-1| (expected)  mean ratio  "
-            "fraction|z|<2 (expected)  mean z^2 (expected)"
-        )
+        if not toy:
+            lines.append(
+                "case dynamics vs theory: bins  median|ratio-1| (expected)  mean ratio  "
+                "fraction|z|<2 (expected)  mean z^2 (expected)"
+            )
         stats_ = agreement(rows, comparison)
         for e in stats_:
             label = (
@@ -223,16 +286,9 @@ def summary_text(rows):
                 if _pooled(e)
                 else f"{e['case']} {e['dynamics']} vs {e['theory']}"
             )
-            if not e["bins"]:
-                lines.append(f"{label}: no usable bins")
-                continue
-            lines.append(
-                f"{label}: {e['bins']}  {e['median_dev']:.3f} ({e['median_dev_expected']:.3f})  "
-                f"{e['mean_ratio']:.3f} +- {e['mean_ratio_err']:.3f}  "
-                f"{e['frac_z2']:.2f} ({e['frac_z2_expected']:.2f})  "
-                f"{e['mean_z2']:.2f} ({e['mean_z2_expected']:.2f})"
-            )
-        lines += _outlier_lines(stats_, ratio, z, indent="  ")
+            lines.append(_summary_line(label, e, toy))
+        if not toy:
+            lines += _outlier_lines(stats_, ratio, z, indent="  ")
     return "\n".join(lines)
 
 
@@ -271,7 +327,7 @@ def _outlier_lines(stats_, ratio, z, indent):
 
 
 def markdown_table(rows, comparison="asymptotic"):
-    """The README's table: one line per case and dynamics, then the pooled line."""
+    """The page's table: one line per case and dynamics, then the pooled line."""
     head = (
         "| case | dynamics | bins | median \\|ratio - 1\\| (expected) | mean ratio | "
         "\\|z\\| < 2 (expected) | mean z^2 (expected) |\n|---|---|---|---|---|---|---|"
@@ -299,7 +355,7 @@ def markdown_table(rows, comparison="asymptotic"):
 
 
 def readme_block(rows):
-    """The README's block: per comparison its table and its bins with |z| > 3 by name."""
+    """The page's block: per comparison its table and its bins with |z| > 3 by name."""
     out = []
     what_of = {"windowed": "windowed (finite-time)", "propagated": "propagated (finite-N)"}
     for comparison, (ratio, z, _, _) in _present(rows):
@@ -311,16 +367,17 @@ def readme_block(rows):
     return "\n".join(out).rstrip() + "\n"
 
 
-#: the lines around the block in README.md
+#: the lines around the block in docs/validation.md (the names keep their first page's)
 README_MARKERS = ("<!-- agreement:start -->", "<!-- agreement:end -->")
 
 
 def readme_with_block(text, block):
-    """`text` (the README) with the part between `README_MARKERS` replaced by `block`.
+    """`text` (a page: docs/validation.md) with what lies between `README_MARKERS` replaced by
+    `block`.
     ValueError unless each marker occurs exactly once, start before end."""
     start, end = README_MARKERS
     if text.count(start) != 1 or text.count(end) != 1 or text.index(start) > text.index(end):
-        raise ValueError(f"README: needs one {start} line before one {end} line")
+        raise ValueError(f"page: needs one {start} line before one {end} line")
     head, rest = text.split(start)
     _, tail = rest.split(end)
     return f"{head}{start}\n{block}{end}{tail}"
@@ -350,14 +407,14 @@ def main(argv=None):
     if "--update" in argv:
         i = argv.index("--update")
         if i + 1 >= len(argv):
-            sys.exit("agreement: --update needs the README's path")
+            sys.exit("agreement: --update needs the page's path (docs/validation.md)")
         update = argv.pop(i + 1)
         argv.pop(i)
     paths = [a for a in argv if not a.startswith("--")]
     if len(paths) != 1:
         sys.exit(
             "usage: python -m hmfdiff.analysis.agreement VALIDATION_CSV "
-            "[--markdown | --readme | --update README.md]"
+            "[--markdown | --readme | --update docs/validation.md]"
         )
     rows = read_rows(paths[0])
     if update is not None:

@@ -1,8 +1,8 @@
 """Vectorisable elementary kernels of the MD: sin/cos polynomials and actions by the AGM.
 
-sin and cos of the drift angle dt p of one step come from Taylor polynomials in float32, the
-MD state's precision (`_sincos_drift32`, |dt p| <= DRIFT_MAX, within about one ulp), those of a
-wrapped angle from a branch-free
+sin and cos of the drift angle dt p of one step come from short polynomials in float32, the
+MD state's precision (`_sincos_drift32`, |dt p| <= DRIFT_MAX, within about one ulp and without
+a systematic error: see below), those of a wrapped angle from a branch-free
 half-angle polynomial (`_sincos_wrapped`, absolute error < 6e-16), so that the particle loops
 vectorise; a general
 vectorisable sincos (`_sincos`: quadrant reduction with a three-part pi/2, error ~1 ulp for |x|
@@ -93,18 +93,39 @@ _CH = (
 _SH1, _SH2, _SH3, _SH4, _SH5, _SH6, _SH7, _SH8 = _SH
 _CH1, _CH2, _CH3, _CH4, _CH5, _CH6, _CH7 = _CH
 
-# sin and cos of the drift angle d = dt p of one step, by their Taylor series, in the float32
-# of the MD's state (`integrator.STATE_DTYPE`), cut where float32 stops seeing the next term.
-# On |d| <= DRIFT_SHORT (the drift angles of the MD at dt = 0.05, |p| < 4) sin d through d^5
-# and cos d through d^6: the first omitted terms are below 2.6e-9 and 6.4e-11, against
-# float32's half ulp of sin d (>= 7.5e-9 for |d| >= 0.125) and of cos d (3e-8).  On
-# |d| <= DRIFT_MAX sin d through d^7 and cos d through d^8 (below 5.4e-9 and 2.7e-10).
-# Coefficients rounded to float32.
+# sin and cos of the drift angle d = dt p of one step, in the float32 of the MD's state
+# (`integrator.STATE_DTYPE`): sin d = d + d z S(z), cos d = 1 + z (-1/2 + z C(z)), z = d^2, on
+# |d| <= DRIFT_MAX with S of degree 2 and C of degree 2 (the degrees of the Taylor series through
+# d^7 and d^8), on |d| <= DRIFT_SHORT (the drift angles of the MD at dt = 0.05, |p| < 4) one
+# degree less in each.  Their float32 coefficients are fitted, not Taylor's: least squares of the
+# relative error of sin d and the absolute error of cos d at 400 Chebyshev nodes of z in 40-digit
+# arithmetic, each coefficient rounded to float32 before the next ones are refitted
+# (studies/drift_polynomials.py).  In exact arithmetic they err by < 3.7e-11 (sin) and 3.4e-12
+# (cos) on |d| <= DRIFT_MAX, < 9e-11 and 1.5e-12 on |d| <= DRIFT_SHORT, far below float32's half
+# ulp (3e-8 near 1), so that what is left is the rounding of the float32 evaluation, which has no
+# sign.  Why it matters: the rotation's error changes the norm of (sin theta, cos theta), the
+# particle's coupling to the field, and a norm error of one sign, correlated with the particle's
+# place in the well, makes the energy drift.  The Taylor polynomials used before erred so: sin
+# through d^7 reads sin d low by d^9/9! (-2.9e-9 on average over 0.4 < |d| < 0.5), and cos d
+# evaluated as (1 - z/2) + z^2 C(z), its first sum rounded before the quartic term is added, lost
+# that term for |d| < 0.03 (cos d read low by 4.9e-9 on average there): the relaxation ensembles
+# lost energy at 1e-9 per unit time (studies/energy_drift.py).  The Horner form rounds
+# 1 + z (-1/2 + ...) once, after its small terms are summed.
 DRIFT_MAX = 0.5
 DRIFT_SHORT = 0.2
-_D1f, _D2f, _D3f = (np.float32((-1) ** k / math.factorial(2 * k + 1)) for k in range(1, 4))
-_E2f, _E3f, _E4f = (np.float32((-1) ** k / math.factorial(2 * k)) for k in range(2, 5))
-_HALF_F = np.float32(0.5)
+_DS1, _DS2, _DS3 = (
+    np.float32(-0.1666666567325592),
+    np.float32(0.008333118632435799),
+    np.float32(-0.0001970301236724481),
+)
+_DC2, _DC3, _DC4 = (
+    np.float32(0.0416666641831398),
+    np.float32(-0.0013888520188629627),
+    np.float32(2.462497286614962e-05),
+)
+_DS1s, _DS2s = np.float32(-0.16666652262210846), np.float32(0.008322078734636307)
+_DC2s, _DC3s = np.float32(0.04166664183139801), np.float32(-0.0013872907729819417)
+_MINUS_HALF_F = np.float32(-0.5)
 _ONE_F = np.float32(1.0)
 
 _CHUNK = 4096  # particles per chunk of the deterministic reductions
@@ -151,21 +172,23 @@ def _sincos_wrapped(x):
 
 @njit(fastmath={"contract"})
 def _sincos_drift32(d):
-    """(sin d, cos d) of a float32 d, |d| <= DRIFT_MAX, in float32 (the MD's step): Taylor
-    series, no range reduction; within about one ulp (tests/test_drift_rotation.py)."""
+    """(sin d, cos d) of a float32 d, |d| <= DRIFT_MAX, in float32 (the MD's step): fitted
+    polynomials, no range reduction; within about one ulp, with no systematic error beyond
+    4e-11 (tests/test_drift_rotation.py).  cos in Horner form: 1 + z (-1/2 + z C(z)) is rounded
+    once, after its small terms are summed."""
     z = d * d
-    s = d + d * z * (_D1f + z * (_D2f + z * _D3f))
-    c = _ONE_F - _HALF_F * z + z * z * (_E2f + z * (_E3f + z * _E4f))
+    s = d + d * z * (_DS1 + z * (_DS2 + z * _DS3))
+    c = _ONE_F + z * (_MINUS_HALF_F + z * (_DC2 + z * (_DC3 + z * _DC4)))
     return s, c
 
 
 @njit(fastmath={"contract"})
 def _sincos_drift32_short(d):
-    """(sin d, cos d) of a float32 d, |d| <= DRIFT_SHORT, in float32: one term shorter than
+    """(sin d, cos d) of a float32 d, |d| <= DRIFT_SHORT, in float32: one degree less than
     `_sincos_drift32` in each."""
     z = d * d
-    s = d + d * z * (_D1f + z * _D2f)
-    c = _ONE_F - _HALF_F * z + z * z * (_E2f + z * _E3f)
+    s = d + d * z * (_DS1s + z * _DS2s)
+    c = _ONE_F + z * (_MINUS_HALF_F + z * (_DC2s + z * _DC3s))
     return s, c
 
 
@@ -178,7 +201,7 @@ def _sincos_drift32_kernel(x, s_out, c_out, short):
 
 
 def sincos_drift_array(x, short=False):
-    """(sin x, cos x) in float32 by the Taylor polynomials of the MD's drift rotation, for x
+    """(sin x, cos x) in float32 by the polynomials of the MD's drift rotation, for x
     rounded to float32, |x| <= DRIFT_MAX (short: the shorter ones, for |x| <= DRIFT_SHORT)
     (exposed for tests)."""
     x = np.ascontiguousarray(x, dtype=np.float32).ravel()

@@ -6,10 +6,11 @@ Consecutive half kicks are fused, so one pass over the particles per step update
 angle and accumulates sum cos, sum sin of the new angles; a last half kick re-synchronises p
 with the angle at each sampling time. A particle carries (S, C) = (sin theta, cos theta), not
 theta: the drift theta += d, d = dt p, is the rotation of (S, C) by d, with sin d and cos d
-from short Taylor polynomials (shorter still for |d| <= `elementary.DRIFT_SHORT`, which holds
-at dt = 0.05 for |p| < 4; up to |d| <= `elementary.DRIFT_MAX` longer ones; a chunk whose
-momenta may exceed that, by a bound on |p| kept per chunk, takes the general half-angle sincos
-of the wrapped d).
+from short polynomials with fitted float32 coefficients (shorter still for |d| <=
+`elementary.DRIFT_SHORT`, which holds at dt = 0.05 for |p| < 4; up to |d| <=
+`elementary.DRIFT_MAX` longer ones; a chunk whose momenta may exceed that, by a bound on |p|
+kept per chunk, takes the general half-angle sincos of the wrapped d).  The kick is
+p + (a C - b S) with a = h Fy, b = h Fx rounded to float32 once a step.
 
 The state (p, S, C) and the steps' arithmetic are float32 (`STATE_DTYPE`): on the short path
 about 18 floating-point operations (a fused multiply-add counted once) and 12 bytes per
@@ -22,7 +23,14 @@ float32 (a relative frequency error below 1e-7), the rotation's rounding changes
 kick), and the total momentum, conserved exactly in exact arithmetic, walks by the kicks'
 rounding, ~1e-7 / sqrt(12 N) a step. All of it is far below the O(N^-1/2) fluctuations the MD
 measures (the magnetisation's ~1e-3 at N = 5e5; an action's rms change over the fit window
-~1e-3); the trust study is in the README ("MD in float32"). The magnetisation, the energy, the
+~1e-3); the trust study is in the README ("MD in float32").  None of these roundings may have a
+sign: velocity Verlet's energy error is bounded in exact arithmetic, and a biased rounding makes
+it drift.  Two did (studies/energy_drift.py, each piece of the step switched to float64 in
+turn): the float32 Taylor sincos of the drift angle, which shrank (S, C) in slow particles
+(`elementary`), and the kick p + h (Fy C - Fx S) with h = float32(0.1), whose products' digits
+below p's last clustered at tenths, one cluster at a half that rounded in the kick's direction:
+together -1e-9 per unit time at dt = 0.1, every realisation the same way
+(tests/test_energy_drift.py). The magnetisation, the energy, the
 momentum and the actions are formed in float64 from the float32 state; the sums of cos and sin
 over a chunk within a step are float32 (their rounding, ~1e-8 on the magnetisation of 5e5
 particles). The closing half kick is computed in float64 and also divides (S, C) by its norm.
@@ -109,7 +117,7 @@ def _chunk_p_bound(p):
 
 @njit
 def _drift_path(drift_bound):
-    """The sincos path of `_chunk_step` for a bound on |d|: 0 short Taylor, 1 long Taylor,
+    """The sincos path of `_chunk_step` for a bound on |d|: 0 short polynomial, 1 long polynomial,
     2 general (also for a NaN bound)."""
     if drift_bound <= DRIFT_SHORT:
         return 0
@@ -124,7 +132,7 @@ def _refreshed_bound(p, bound, path, periodic, grow, dt):
     exact bound `_chunk_p_bound` when `periodic`, or when the bound grown by kicks since the
     last refresh would pick a costlier path than `path` (the one of that refresh); else the
     bound and path unchanged.  In a hot state (|p| up to 4, dt = 0.1) the grown bound would
-    otherwise leave the Taylor paths within a few steps of each refresh."""
+    otherwise leave the polynomial paths within a few steps of each refresh."""
     if periodic or _drift_path(abs(dt) * (bound + grow)) > path:
         bound = _chunk_p_bound(p)
         path = _drift_path(abs(dt) * (bound + grow))
@@ -162,24 +170,27 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
     returns sum cos, sum sin of the new angles (as float64).
 
     p += h (-Fx sin theta + Fy cos theta); theta += dt p, i.e. (S, C) rotated by d = dt p, all
-    in float32 (h, dt, Fx, Fy rounded to it), the chunk's two sums included (their rounding,
+    in float32 (h Fx, h Fy and dt rounded to it), the chunk's two sums included (their rounding,
     ~1e-3 on a sum of 4096, is ~1e-8 on the magnetisation of 5e5 particles, whose own
     fluctuations are 1e-3).  p_bound >= max |p| on entry (inf when unknown): with the kick's
-    bound |h| (|Fx| + |Fy|) it bounds |d|, and picks the short Taylor sincos of d
+    bound |h| (|Fx| + |Fy|) it bounds |d|, and picks the short polynomial sincos of d
     (|d| <= DRIFT_SHORT), the long one (|d| <= DRIFT_MAX) or else the general one of d wrapped
     to [-pi, pi), in float64 (a NaN bound picks the general one)."""
     drift_bound = abs(dt) * (p_bound + abs(h) * (abs(Fx) + abs(Fy)))
-    h32 = np.float32(h)
+    # the kick p + (a C - b S) with the step's a = h Fy, b = h Fx rounded to float32 once (not
+    # p + h (Fy C - Fx S) with h rounded: float32(0.1) is so near 1/10 that h times a float32
+    # has its digits below p's last in ten clusters, one at a half, which rounds away from p in
+    # the kick's direction: every kick grew by ~0.03 ulp and the energy by 2e-10 per unit time)
+    a = np.float32(h * Fy)
+    b = np.float32(h * Fx)
     dt32 = np.float32(dt)
-    fx = np.float32(Fx)
-    fy = np.float32(Fy)
     sc = np.float32(0.0)
     ss = np.float32(0.0)
     # range(size), not range(lo, hi): numba's negative-index handling blocks vectorisation;
     # three loops that differ in the sincos line only, so that each vectorises without a branch
     if drift_bound <= DRIFT_SHORT:
         for i in range(p.size):
-            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            pi_ = p[i] + (a * C[i] - b * S[i])
             sd, cd = _sincos_drift32_short(dt32 * pi_)
             s2 = S[i] * cd + C[i] * sd
             c2 = C[i] * cd - S[i] * sd
@@ -190,7 +201,7 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
             C[i] = c2
     elif drift_bound <= DRIFT_MAX:
         for i in range(p.size):
-            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            pi_ = p[i] + (a * C[i] - b * S[i])
             sd, cd = _sincos_drift32(dt32 * pi_)
             s2 = S[i] * cd + C[i] * sd
             c2 = C[i] * cd - S[i] * sd
@@ -201,7 +212,7 @@ def _chunk_step(p, S, C, h, dt, Fx, Fy, p_bound):
             C[i] = c2
     else:
         for i in range(p.size):
-            pi_ = p[i] + h32 * (fy * C[i] - fx * S[i])
+            pi_ = p[i] + (a * C[i] - b * S[i])
             d = dt * np.float64(pi_)
             d = d - _TWO_PI * np.floor(d * _INV_TWO_PI + 0.5)
             sd64, cd64 = _sincos_wrapped(d)

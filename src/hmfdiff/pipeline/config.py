@@ -14,7 +14,8 @@ is allowed:
    every state, MD only for states with a smooth f, the MD time step against the fastest
    orbital period of the state, N against the noise of the magnetisation, every MD run's
    settings (`hmfdiff.dynamics.runs.md_runs`: whole multiples of dt, ...), its memory
-   estimate against this machine's, figures naming existing cases of the right kind.  The
+   estimate against this machine's, figures of the registry naming existing cases of the
+   right kind that have the runs making each of the figure's inputs (`_check_figures`).  The
    same checks (`check_smooth_case`, `check_time_step`, `check_particle_number`,
    `check_memory`) guard every block that runs dynamics: md.runs, md_scaling (each study and
    size), relaxation (smooth case, memory), relaxation_md (smooth case also under
@@ -28,6 +29,7 @@ is allowed:
 from __future__ import annotations
 
 import copy
+import difflib
 import math
 import os
 import sys
@@ -238,8 +240,8 @@ def _check_md_memory(runs):
 
 def _check_md_scaling(config, states):
     """The 1/N studies: each case smooth (`md_scaling_runs`), at every size the checks of an
-    MD run (dt with the `run` overrides, N, memory), and the cases that a figure draws the
-    study of (its registry entry has 'scaling_*' inputs) are studies."""
+    MD run (dt with the `run` overrides, N, memory).  (A figure drawing a case that has no
+    study is refused by `_check_figure_inputs`.)"""
     runs = md_scaling_runs(config)
     scaling_kappa0(config)  # its shape, before any job
     for (case, dynamics, n), run in runs.items():
@@ -254,13 +256,6 @@ def _check_md_scaling(config, states):
         )
         what = f"field 'sizes' = {n!r} with n_test = {run.n_test!r}"
         check_memory(where, run.memory_mb() * 1e6, what)
-    studies = {case for case, _, _ in runs}
-    for case, fig in _cases_of_kind(config, "scaling_").items():
-        if case not in studies:
-            raise ConfigError(
-                f"figure '{fig}': case '{case}' has no study under md_scaling.studies "
-                f"(studies: {sorted(studies)})"
-            )
 
 
 # ---- spectrum of the magnetisation ------------------------------------------------------
@@ -310,13 +305,10 @@ def _spectrum_memory_bytes(runs):
 
 
 def _check_spectrum(config, states, runs):
-    """Each spectrum case has MD runs (smooth, under md.runs), samples its magnetisation
-    finely enough for its fastest orbits, and its job fits in memory."""
+    """Each spectrum case (one with MD runs: `_check_figure_inputs` runs first) samples its
+    magnetisation finely enough for its fastest orbits, and its job fits in memory."""
     for case, fig in spectrum_cases(config).items():
         where = f"spectrum case '{case}' (figure '{fig}')"
-        check_smooth_case(config, where, case, "the MD spectrum")
-        if (case, "bath") not in runs:
-            raise ConfigError(f"{where}: case '{case}' has no MD run under md.runs")
         check_time_step(
             where,
             "m_every",
@@ -421,26 +413,54 @@ def _check_relaxation_rates(config, states):
         _check_ensembles(config, states, "relaxation_rates", settings, 2)
 
 
-def _check_ensemble_figures(config):
-    """A figure that draws an early-window study or a relaxation comparison names a case that
-    has a run in the block making it."""
-    for kind, block in (
-        ("relaxation_rates", "relaxation_rates"),
-        ("relaxation_comparison", "relaxation_md"),
-    ):
-        runs = (config.get(block) or {}).get("runs") or {}
-        for case, fig in _cases_of_kind(config, kind, exact=True).items():
-            if case not in runs:
-                raise ConfigError(
-                    f"figure '{fig}': case '{case}' has no run under {block}.runs "
-                    f"(runs: {sorted(runs)})"
-                )
-
-
 # ---- figures ----------------------------------------------------------------------------
-def _check_figures(config):
+#: the run that makes each kind of figure input, by the first folder of the input's path under
+#: the results directory (`registry.Inputs.pattern`): (what a case lacks when it has none, the
+#: cases that have one).  Every input pattern of the registry has its entry here (a test
+#: holds the two together), so a figure cannot ask for a file that no rule makes for its case.
+def _input_makers(config):
     cases = config["cases"]
+    smooth = sorted(c for c, s in cases.items() if s["kind"] != "two_step")
+
+    def runs(block):
+        return sorted((config.get(block) or {}).get("runs") or {})
+
+    md = sorted(config["md"]["runs"])
+    studies = sorted(((config.get("md_scaling") or {}).get("studies")) or {})
+    return {
+        "orbits": ("no orbits", sorted(cases)),
+        "analytic": ("no closed forms", sorted(cases)),
+        "theory": ("no theory grid (a two-step state: delta-function df/dkappa)", smooth),
+        "fits": ("no run under md.runs", md),
+        "windowed": ("no run under md.runs", md),
+        "spectrum": ("no run under md.runs", md),
+        "scaling": ("no study under md_scaling.studies", studies),
+        "relaxation": ("no run under relaxation.runs", runs("relaxation")),
+        "relaxation_comparison": ("no run under relaxation_md.runs", runs("relaxation_md")),
+        "relaxation_rates": ("no run under relaxation_rates.runs", runs("relaxation_rates")),
+    }
+
+
+def input_maker(pattern):
+    """The key of `_input_makers` for a registry input pattern: its first folder."""
+    return pattern.split("/", 1)[0]
+
+
+def _check_figures(config):
+    """Every figure of the config is one of the registry's; every case it names exists, is of
+    the kind its field asks for (fig07's two_step, thermal, core_halo) and has the run that
+    makes each of the figure's inputs (MD fits, 1/N studies, relaxations, ...)."""
+    from ..analysis.figures.registry import FIGURES
+
+    cases = config["cases"]
+    makers = _input_makers(config)
     for fig, spec in config["figures"].items():
+        if fig not in FIGURES:
+            near = difflib.get_close_matches(fig, list(FIGURES), n=1, cutoff=0.6)
+            hint = f"did you mean '{near[0]}'? " if near else ""
+            raise ConfigError(
+                f"figures: unknown figure '{fig}' ({hint}figures: {', '.join(FIGURES)})"
+            )
         where = f"figure '{fig}'"
         for key, names in spec.items():
             for c in [names] if isinstance(names, str) else names:
@@ -451,6 +471,22 @@ def _check_figures(config):
                     raise ConfigError(
                         f"{where}: field '{key}' names case '{c}' of kind '{kind}', not '{key}'"
                     )
+        for inp in FIGURES[fig].inputs:
+            lacks, allowed = makers[input_maker(inp.pattern)]
+            try:
+                inp.files(fig, spec)  # a case for every kind of input, every field given
+            except KeyError as e:
+                raise ConfigError(e.args[0]) from None
+            others = {k: v for k, v in spec.items() if k not in inp.keys}
+            for key in inp.keys:
+                names = spec.get(key, [])
+                for c in [names] if isinstance(names, str) else names:
+                    if c not in allowed:
+                        first = inp.files(fig, {**others, key: [c]})[0]
+                        raise ConfigError(
+                            f"{where}: case '{c}' (field '{key}') has {lacks}, so its input "
+                            f"{first} cannot be made; allowed: {', '.join(allowed) or 'none'}"
+                        )
 
 
 def check_physics(config):
@@ -463,7 +499,6 @@ def check_physics(config):
     _check_relaxation(config)
     _check_relaxation_md(config, states)
     _check_relaxation_rates(config, states)
-    _check_ensemble_figures(config)
     _check_figures(config)
     _check_spectrum(config, states, runs)
 

@@ -1,8 +1,12 @@
 """The library files a workflow script depends on, read from its imports.
 
 A `script:` rule of Snakemake reruns when its script changes, not when the library it imports
-changes; the rules therefore list the library files as inputs.  This module derives that list
-from the code itself, so it cannot go stale: an `ast` walk over the script and, transitively,
+changes; each rule therefore carries a digest of the library files its script imports as a
+parameter (`library_digest`), and Snakemake reruns a job whose parameters changed since its
+last execution (its default rerun triggers include `params`).  A parameter, not the files as
+inputs: the log lists every input of every job, ~25 library files each.  This module derives
+the list from the code itself, so it cannot go stale: an `ast` walk over the script and,
+transitively,
 over every module of the package it reaches (absolute and relative imports, at any depth of
 the code, so imports inside functions count too).  The package `__init__.py` files on the way
 count as well, since Python runs them on import.  Nothing is imported or executed.
@@ -12,9 +16,10 @@ from __future__ import annotations
 
 import ast
 import functools
+import hashlib
 from pathlib import Path
 
-__all__ = ["library_files", "module_imports", "import_graph"]
+__all__ = ["library_files", "library_digest", "module_imports", "import_graph"]
 
 PACKAGE = "hmfdiff"
 
@@ -113,6 +118,18 @@ def library_files(script, src):
                 seen[name] = file
                 todo.append((file, _package_of(src, file)))
     return sorted(str(p) for p in seen.values())
+
+
+def library_digest(script, src):
+    """'23 files of hmfdiff, sha256 1f8ec0a99d3e78d4': the number of package files the script
+    at `script` reaches (`library_files`) and a digest of their paths under `src` and contents
+    (a comment edited counts; the place of the source tree does not)."""
+    files = library_files(script, src)
+    h = hashlib.sha256()
+    for f in files:
+        h.update(Path(f).relative_to(src).as_posix().encode() + b"\0")
+        h.update(Path(f).read_bytes() + b"\0")
+    return f"{len(files)} files of {PACKAGE}, sha256 {h.hexdigest()[:16]}"
 
 
 def import_graph(src, top_level=False):

@@ -10,7 +10,15 @@ units (`cf_units`: "1" or "rad"; an HMF quantity of `HMF_UNITS` is stored as "1"
 quantity in `comment`; any other unit string is refused); the file gets
 `Conventions = "CF-1.10"`, a `title`, the config fragment, the package versions, the git
 revision and a `history` line naming the Snakemake rule (when written by one), the package
-version and the git commit.
+version and the git commit.  Integers are stored in 32 bits where their values fit (`_narrow`:
+the MD counters, indices, sizes; CF before 1.9 knows no 64-bit type, and a checker run at its
+default CF version refuses them), else in 64 bits, which the declared CF-1.10 allows; the
+largest at paper size, an MD(full) count of (origin, particle) pairs, is 120 000 tracked
+particles x 51 origins = 6.1e6 per seed file.  `read_dataset` gives them back as int64, so that
+a sum over many files (the fits pool 20-40 seeds) cannot overflow.  Every text attribute that
+cites the paper by a LaTeX label of its source ("eq. hmfCEdif", "fig. hmfcontribs", whichever
+module wrote it) is stored with the published number instead ("eq. (49)", "fig. 4";
+`hmfdiff.paper_equations.cite`).
 
 Atomicity.  Data go to a hidden temporary file beside the target (`.{name}.{random}.part`),
 renamed onto the target only when complete, so a killed job never leaves a file that looks
@@ -47,6 +55,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+
+from ..paper_equations import cite
 
 ENGINE = "netcdf4"
 CONVENTIONS = "CF-1.10"
@@ -312,6 +322,8 @@ def write_dataset(ds, path, config_fragment=None, case=None, history=None, title
     Refused (ValueError, before anything is written): complex variables (netCDF has no complex
     type), variables without `units` and `long_name`, and unit strings that are neither CF
     units nor an HMF quantity (`cf_units`, which also maps the latter to "1" and a comment).
+    Integers that fit are stored in 32 bits (`_narrow`); text attributes cite the paper's
+    equations and figures by their published numbers (`paper_equations.cite`).
     Coordinates get no _FillValue; every variable with a dimension gets a Fletcher-32
     checksum.  The title is `title`, else the
     dataset's own, else the default of the writing rule.
@@ -328,8 +340,12 @@ def write_dataset(ds, path, config_fragment=None, case=None, history=None, title
     ds = ds.copy()
     for var in ds.variables.values():
         var.attrs = cf_units(var.attrs["units"], var.attrs)  # CF units, or ValueError
+    ds = _narrow(ds)
     ds.attrs.update(provenance(config_fragment, case=case, history=history))
     ds.attrs["title"] = title or ds.attrs.get("title") or _default_title(path)
+    for var in ds.variables.values():
+        var.attrs = {k: cite(v) for k, v in var.attrs.items()}
+    ds.attrs = {k: cite(v) for k, v in ds.attrs.items()}
     encoding = {}
     for name, var in ds.variables.items():
         enc = {}
@@ -343,6 +359,43 @@ def write_dataset(ds, path, config_fragment=None, case=None, history=None, title
     with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, engine=ENGINE, encoding=encoding)
     return Path(path)
+
+
+#: attributes that CF wants in the type of their variable
+_TYPED_ATTRS = ("valid_min", "valid_max", "valid_range", "flag_values", "flag_masks")
+_INT32 = np.iinfo(np.int32)
+
+
+def _narrow(ds):
+    """`ds` with every 64-bit integer variable whose values fit in int32 stored as int32, its
+    typed attributes (`_TYPED_ATTRS`) with it; a variable beyond int32 stays int64."""
+    for name, var in list(ds.variables.items()):
+        if var.dtype.kind not in "iu" or var.dtype.itemsize <= 4:
+            continue
+        values = var.values
+        if values.size and (values.min() < _INT32.min or values.max() > _INT32.max):
+            continue
+        attrs = {
+            k: np.asarray(v).astype(np.int32) if k in _TYPED_ATTRS else v
+            for k, v in var.attrs.items()
+        }
+        ds = _replace(ds, name, xr.Variable(var.dims, values.astype(np.int32), attrs))
+    return ds
+
+
+def _widen(ds):
+    """`ds` with its int32 variables as int64 (see the module docstring)."""
+    for name, var in list(ds.variables.items()):
+        if var.dtype.kind == "i" and var.dtype.itemsize == 4:
+            ds = _replace(ds, name, var.astype(np.int64))
+    return ds
+
+
+def _replace(ds, name, var):
+    if name in ds.coords:
+        return ds.assign_coords({name: var})
+    ds[name] = var
+    return ds
 
 
 def _default_title(path):
@@ -377,6 +430,7 @@ def read_dataset(path, required=()):
             f"{path}: not a readable netCDF file ({type(exc).__name__}: {exc}); "
             "it may be truncated or corrupt: delete it and rerun the rule that makes it"
         ) from exc
+    ds = _widen(ds)
     ds.encoding["source"] = str(path)
     missing = [v for v in required if v not in ds.variables]
     if missing:

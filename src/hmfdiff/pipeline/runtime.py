@@ -1,8 +1,12 @@
 """Run-time plumbing for the workflow scripts: the job's log file, its errors, thread counts.
 
-`get_logger(name, log_path)` writes timestamped lines to stderr and to the rule's log file, and
-installs an exception hook: an uncaught exception writes its full traceback at the end of the
-log file and one line on the console (stderr) naming the rule, the error and the log file.
+`get_logger(name, log_path)` writes timestamped lines to the rule's log file and, on the
+console (stderr), one line per job: its last informational line (the scripts end with what
+they wrote), when the job ends, and any warning at once; with HMFDIFF_LOG_CONSOLE=all every
+line goes to the console too (a smoke run's console held ~440 such lines among Snakemake's
+own).  It also installs an exception hook: an uncaught exception writes its full traceback at
+the end of the log file and one line on the console naming the rule, the error and the log
+file.
 
 `current_job()` is the `snakemake` object of the running script (Snakemake's script preamble
 defines it in `__main__`), or None outside Snakemake: io uses it to name the rule in the
@@ -11,6 +15,7 @@ defines it in `__main__`), or None outside Snakemake: io uses it to name the rul
 
 from __future__ import annotations
 
+import atexit
 import logging
 import os
 import sys
@@ -18,7 +23,11 @@ import time
 import traceback
 from pathlib import Path
 
+#: set to "all" for every log line of a job on the console, not only its last
+CONSOLE_ENV = "HMFDIFF_LOG_CONSOLE"
+
 __all__ = [
+    "CONSOLE_ENV",
     "get_logger",
     "set_threads",
     "current_job",
@@ -42,10 +51,41 @@ def _job_name():
     return f"rule {job.rule}" + (f" ({wc})" if wc else "")
 
 
+class _LastLine(logging.StreamHandler):
+    """A console handler that writes warnings and errors at once and keeps only the latest
+    informational line, written when the process ends (`flush_last`) unless dropped."""
+
+    def __init__(self, stream):
+        super().__init__(stream)
+        self.last = None
+
+    def emit(self, record):
+        if record.levelno >= logging.WARNING:
+            super().emit(record)
+        else:
+            self.last = record
+
+    def flush_last(self):
+        if self.last is not None:
+            record, self.last = self.last, None
+            super().emit(record)
+
+
+_CONSOLE = []  # the _LastLine handlers of this process, for the exit and the exception hook
+
+
+@atexit.register
+def _flush_console():
+    for handler in _CONSOLE:
+        handler.flush_last()
+
+
 def install_excepthook(log_path=None):
     """On an uncaught exception: traceback at the end of `log_path`, one line on stderr."""
 
     def hook(exc_type, exc, tb):
+        for handler in _CONSOLE:  # the failure is the job's one console line
+            handler.last = None
         if issubclass(exc_type, KeyboardInterrupt):
             sys.__excepthook__(exc_type, exc, tb)
             return
@@ -71,16 +111,26 @@ def install_excepthook(log_path=None):
 
 
 def get_logger(name, log_path=None):
-    """A logger that writes timestamped lines to stderr and, if given, to the rule's log file.
+    """A logger that writes timestamped lines to the rule's log file, if given, and to stderr
+    the last informational line at the end and warnings at once (every line with
+    HMFDIFF_LOG_CONSOLE=all, or without a log file).
 
     Also installs `install_excepthook(log_path)`, so a failing script leaves its traceback in
     the log file."""
     logger = logging.getLogger(name)
     logger.setLevel(logging.INFO)
+    for h in logger.handlers:
+        if h in _CONSOLE:
+            _CONSOLE.remove(h)
     logger.handlers.clear()
     fmt = logging.Formatter("%(asctime)s %(name)s: %(message)s", "%H:%M:%S")
     fmt.converter = time.gmtime
-    handlers = [logging.StreamHandler(sys.stderr)]
+    if log_path and os.environ.get(CONSOLE_ENV, "").strip().lower() != "all":
+        console = _LastLine(sys.stderr)
+        _CONSOLE.append(console)
+    else:
+        console = logging.StreamHandler(sys.stderr)
+    handlers = [console]
     if log_path:
         os.makedirs(os.path.dirname(str(log_path)) or ".", exist_ok=True)
         handlers.append(logging.FileHandler(str(log_path), mode="w"))

@@ -19,7 +19,8 @@ Contract (how to add a figure, e.g. figure 11):
            fig11_relaxation,
            (Inputs("relaxation", "relaxation/{case}_{equation}.nc",
                    defaults={"equation": ("landau", "lenard_balescu")}),),
-           "Fig. 11: ... (eqs. hmflb, ...).",  # caption shown in the report
+           "Fig. 11: ... (eq. hmflb, ...).",   # caption shown in the report (labels of the
+                                               # paper's source become its numbers: cite)
            "4. Relaxation (figures 11-13)",    # report section; the number orders the menu
        )
 
@@ -48,6 +49,7 @@ import string
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
+from ...paper_equations import cite
 from .fluctuation_figures import fig14_spectrum, fig15_scaling
 from .md_figures import fig08_dj2, fig09_md_thermal, fig10_md_corehalo
 from .orbit_figures import fig01_orbits, fig02_action_frequency, fig03_poles
@@ -127,6 +129,8 @@ class Figure:
     category: str
 
     def __post_init__(self):
+        # the caption as the report shows it: the paper's equations by their published numbers
+        object.__setattr__(self, "caption", cite(self.caption))
         kinds = [i.kind for i in self.inputs]
         if len(set(kinds)) != len(kinds) or "lib" in kinds:
             raise ValueError(f"{self.name}: input kinds {kinds} must be distinct and not 'lib'")
@@ -168,7 +172,7 @@ _FIGURE_LIST = (
         "fig1",
         fig01_orbits,
         _ORBITS,
-        "Fig. 1 (fig:hmforbits): a librating orbit (kappa < 1), the separatrix (kappa = 1) and "
+        "Fig. 1: a librating orbit (kappa < 1), the separatrix (kappa = 1) and "
         "a rotating orbit (kappa > 1, both directions) of h = p^2/2 - M0 cos(theta), from the "
         "inverse angle-action map (appendix A).",
         _ORBIT_CAT,
@@ -178,7 +182,7 @@ _FIGURE_LIST = (
         "fig2",
         fig02_action_frequency,
         _ORBITS,
-        "Fig. 2 (fig:hmfactom): (a) the action J(kappa) (eq. hmfaction), discontinuous at the "
+        "Fig. 2: (a) the action J(kappa) (eq. hmfaction), discontinuous at the "
         "separatrix; (b) the frequency Omega(J) (eq. hmfomega), inset Omega(kappa).",
         _ORBIT_CAT,
     ),
@@ -187,7 +191,7 @@ _FIGURE_LIST = (
         "fig3",
         fig03_poles,
         _ORBITS,
-        "Fig. 3 (fig:hmfpoles): poles of the dielectric integrand, Omega(kappa) = omega/l: two "
+        "Fig. 3: poles of the dielectric integrand, Omega(kappa) = omega/l: two "
         "poles kappa_1 < 1 < kappa_2 for 0 < omega/l < Omega_0, one above Omega_0.",
         _ORBIT_CAT,
     ),
@@ -196,7 +200,7 @@ _FIGURE_LIST = (
         "fig4",
         fig04_contributions,
         (_theory(),),
-        "Fig. 4 (fig:hmfcontribs): normalised contribution gamma(kappa, kappa*)/D_dif(kappa) "
+        "Fig. 4: normalised contribution gamma(kappa, kappa*)/D_dif(kappa) "
         "of each resonant orbit kappa* to the Lenard-Balescu diffusion coefficient "
         "(eq. hmfCEdif), one panel per thermal state (paper: M0 = 0.05 and 0.9).",
         _THEORY_CAT,
@@ -206,7 +210,7 @@ _FIGURE_LIST = (
         "fig5",
         fig05_dielectric,
         (_theory(),),
-        "Fig. 5 (fig:eps): (a) cosine and (b) sine components of the dielectric tensor "
+        "Fig. 5: (a) cosine and (b) sine components of the dielectric tensor "
         "(eqs. hmfepscc, hmfepsss; Landau prescription), paper: thermal (u, M0) = "
         "(-0.1, 0.728); vertical lines at Omega_0 and 2 Omega_0.",
         _THEORY_CAT,
@@ -216,7 +220,7 @@ _FIGURE_LIST = (
         "fig6",
         fig06_landau_lenard_balescu,
         (_theory(),),
-        "Fig. 6 (fig:hmfCENCEcompare): N D_dif(kappa) with (Lenard-Balescu, eqs. hmfCEdif + "
+        "Fig. 6: N D_dif(kappa) with (Lenard-Balescu, eqs. hmfCEdif + "
         "hmfD) and without (Landau, eq. hmfDbare) collective effects, paper: thermal (u, M0) = "
         "(-0.1, 0.7285) and (0.2475, 0.0632); cut near the separatrix.",
         _THEORY_CAT,
@@ -231,7 +235,7 @@ _FIGURE_LIST = (
             Inputs("closed_two_step", "analytic/{case}.nc", ("two_step",)),
             Inputs("closed_thermal", "analytic/{case}.nc", ("thermal",)),
         ),
-        "Fig. 7 (M0.8): (a-c) eps_cc, eps_ss and N D_dif of the smooth core-halo states "
+        "Fig. 7: (a-c) eps_cc, eps_ss and N D_dif of the smooth core-halo states "
         "(paper: ch1*, ch2*) against the two-step closed form (eqs. hmfepscc/ss-ch, "
         "corrected); (d-f) the same for the thermal state M0 = 0.95 against appendix C "
         "(eqs. eps_cc_ap, eps_ss_ap, corrected).",
@@ -242,7 +246,7 @@ _FIGURE_LIST = (
         "fig8",
         fig08_dj2,
         (_FIT_FULL,),
-        "Fig. 8 (fig:dj2t): <dJ^2>(dt) from MD(full) for several J0, with the linear fits "
+        "Fig. 8: <dJ^2>(dt) from MD(full) for several J0, with the linear fits "
         "(eq. hmfmddif) over the shaded window; one panel per case.",
         _MD_CAT,
     ),
@@ -251,7 +255,7 @@ _FIGURE_LIST = (
         "fig9",
         fig09_md_thermal,
         (_theory(), _FIT_BATH, _FIT_FULL, _WINDOWED_BATH, _WINDOWED_FULL),
-        "Fig. 9 (fig:hmfdiff): N D from MD against theory for thermal states (paper: (u, M0) = "
+        "Fig. 9: N D from MD against theory for thermal states (paper: (u, M0) = "
         "(-0.2, 0.816), (0.0, 0.622), (0.2475, 0.063)): MD(bath) vs Landau (top row), "
         "MD(full) vs Lenard-Balescu (bottom row); errors from the spread between seeds; grey "
         "line: separatrix; black crosses: the theory propagated over the fit's lags (what the "
@@ -264,7 +268,7 @@ _FIGURE_LIST = (
         "fig10",
         fig10_md_corehalo,
         (_theory(), _FIT_BATH, _FIT_FULL, _WINDOWED_BATH, _WINDOWED_FULL),
-        "Fig. 10 (fig:hmfch): the same for the core-halo state ch2* (beta1 = 30, beta2 = 10, "
+        "Fig. 10: the same for the core-halo state ch2* (beta1 = 30, beta2 = 10, "
         "eta1 = 0.298, eta2 = 0.051, mu1 = -0.517, mu2 = 0.19, M0 = 0.8).",
         _MD_CAT,
     ),

@@ -8,6 +8,7 @@ state of the same energy, and M0(tau), S(tau) for both equations.
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.ticker import FixedLocator, NullLocator
 
 from .style import HMF, plt, save_figure, sci, tag_panels
 
@@ -28,6 +29,36 @@ def _snapshot_indices(ds, n=5):
             idx.append(int(below[0]))
     idx.append(S.size - 1)
     return sorted(set(idx))
+
+
+def _tau_r_label(label, ds):
+    """The legend entry of one equation: its fine-grained relaxation time, or, where the run
+    ended before the entropy deficit fell by e (tau_relax_fine is NaN), that it was not
+    reached by the run's last tau."""
+    tau_r = float(ds["tau_relax_fine"])
+    if np.isfinite(tau_r):
+        return rf"{label} ($\tau_R^{{\rm fine}}={sci(tau_r, 3)}$)"
+    tau_end = float(ds["tau"].values[-1])
+    return rf"{label} ($\tau_R^{{\rm fine}}$ not reached by $\tau={sci(tau_end, 3)}$)"
+
+
+def _time_axis(ax, taus):
+    """tau on a symmetric-log axis, linear from tau = 0 (the initial state, which a log axis
+    would hide) to the first positive tau of the runs, logarithmic beyond; the label says
+    where the scale changes."""
+    positive = np.concatenate([t[t > 0] for t in taus])
+    if positive.size:
+        lin, end = float(positive.min()), float(positive.max())
+        ax.set_xscale("symlog", linthresh=lin, linscale=0.5)
+        ax.set_xlim(0.0, end * 1.2)
+        # ticks at 0 and at the decades of the log part (symlog's own put some in the linear
+        # part, where they crowd the 0)
+        decades = 10.0 ** np.arange(np.ceil(np.log10(lin)), np.floor(np.log10(end)) + 1)
+        ax.xaxis.set_major_locator(FixedLocator([0.0, *decades]))
+        ax.xaxis.set_minor_locator(NullLocator())
+        ax.set_xlabel(rf"$\tau = t/N$ ({HMF}; linear up to ${sci(lin, 2)}$, log beyond)")
+    else:
+        ax.set_xlabel(rf"$\tau = t/N$ ({HMF})")
 
 
 def _by_case(datasets):
@@ -69,22 +100,19 @@ def fig11_relaxation(inputs, pdf, png):
         for eq, ds in eqs.items():
             label, ls = _STYLE[eq]
             tau = ds["tau"].values
-            pos = tau > 0
-            tau_r = float(ds["tau_relax_fine"])
-            lab = rf"{label} ($\tau_R^{{\rm fine}}={sci(tau_r, 3)}$)"
-            ax_m.plot(tau[pos], ds["M0"].values[pos], "k", ls=ls, lw=1.2, label=lab)
-            ax_s.plot(tau[pos], ds["S"].values[pos], "k", ls=ls, lw=1.2, label=label)
+            ax_m.plot(tau, ds["M0"].values, "k", ls=ls, lw=1.2, label=_tau_r_label(label, ds))
+            ax_s.plot(tau, ds["S"].values, "k", ls=ls, lw=1.2, label=label)
         first = next(iter(eqs.values()))
         ax_m.axhline(float(first["M0_thermal"]), color="r", ls=":", lw=1, label="thermal, same $u$")
         ax_s.axhline(
             float(first["S_thermal_grid"]), color="r", ls=":", lw=1, label="thermal, same $u$"
         )
         for ax, ylabel in ((ax_m, "$M_0$"), (ax_s, r"fine-grained $S = -\int f \ln f$")):
-            ax.set_xscale("log")
-            ax.set_xlabel(rf"$\tau = t/N$ ({HMF})")
+            _time_axis(ax, [ds["tau"].values for ds in eqs.values()])
             ax.set_ylabel(ylabel)
             ax.legend(fontsize=6)
         titles += [f"{case}: magnetisation", f"{case}: fine-grained entropy"]
     tag_panels(axes, titles)
     fig.tight_layout()
-    save_figure(fig, pdf, png, inputs, title="Fig. 11: collisional relaxation")
+    title = "Fig. 11: collisional relaxation by the Landau and Lenard-Balescu equations"
+    save_figure(fig, pdf, png, inputs, title=title)

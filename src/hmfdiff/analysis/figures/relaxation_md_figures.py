@@ -208,6 +208,9 @@ def _rate_panel(ax, ds, key, ylabel):
             ax.axhline(float(ds[f"{key}_{eq}"]), color=c, ls=ls, lw=1, label=label)
     ax.axhline(0.0, color="0.8", lw=0.6, zorder=0)
     ax.set_xscale("log")
+    # a factor 2 beyond the sizes on each side, as in (d): with one size (the smoke config) the
+    # autoscaled log axis spanned 400-432 and its minor tick labels ran into each other
+    ax.set_xlim(n.min() / 2, n.max() * 2)
     ax.set_xlabel(r"$N$")
     ax.set_ylabel(ylabel)
 
@@ -252,6 +255,16 @@ def fig16_relaxation_rates(inputs, pdf, png):
     rate = n / cmp_["t_relax_md"].values
     err = rate * cmp_["t_relax_md_err"].values / cmp_["t_relax_md"].values
     ax.errorbar(n, rate, err, fmt="o", color="C3", label=r"N-body $N/t_R$")
+    if not np.isfinite(rate).any():
+        ax.text(
+            0.5,
+            0.5,
+            "no data at this size:\nno ensemble relaxed (deficit / e) within its run",
+            transform=ax.transAxes,
+            ha="center",
+            va="center",
+            fontsize=8,
+        )
     for eq, label, c, ls in _KIN:
         key = f"tau_relax_coarse_{eq}"
         if key in cmp_ and np.isfinite(float(cmp_[key])):

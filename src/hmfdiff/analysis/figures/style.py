@@ -145,7 +145,13 @@ def _sources(inputs):
 
 
 def save_figure(fig, pdf, png, inputs=None, title=""):
-    """Save a figure as PDF and PNG atomically, with provenance in the metadata."""
+    """Save a figure as PDF and PNG atomically, with provenance in the metadata.
+
+    A figure that its drawing function gave no super-title gets `title` as one (every figure
+    carries its number and subject above its panels), its layout redone to make room."""
+    if title and not fig.get_suptitle():
+        fig.suptitle(title, fontsize=9)
+        fig.tight_layout()
     prov = provenance()
     subject = json.dumps(
         {

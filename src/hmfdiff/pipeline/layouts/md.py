@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ...paper_equations import eq
 from .variables import ACTION, COMPONENT, NONNEGATIVE, UNIT_INTERVAL, flag_word, variable
 
 __all__ = ["md_dataset", "fit_dataset", "seed_files"]
@@ -46,7 +47,7 @@ def seed_files(inputs, n_seeds):
 
 def md_dataset(result):
     """results/md/{case}/{dynamics}/seeds{first}-{last}/seed{seed}.nc from `dynamics.md.run_md`:
-    sums per (bin, lag) and per (bin, lag, block) over (origin, particle) pairs, eq. dj2
+    sums per (bin, lag) and per (bin, lag, block) over (origin, particle) pairs, eq. (75)
     (<dJ^2> = sum_dJ2 / count; use ds["count"]: ds.count is a method); Mx, My, energy,
     momentum; a few stored tracks."""
     run, a, edges, series = result.run, result.sums, result.jbar_edges, result.series
@@ -179,7 +180,9 @@ def fit_dataset(fit):
     bin with its standard error and flag, the per-seed values and the pooled <dJ^2>(lag)."""
     b, nd, flags = ("bin",), "action^2/time", fit["flags"]
     data = {
-        "ND_md": variable(b, fit["ND_md"], nd, "N D_MD = N slope/2 of <dJ^2>(dt) (eq. hmfmddif)"),
+        "ND_md": variable(
+            b, fit["ND_md"], nd, f"N D_MD = N slope/2 of <dJ^2>(dt) ({eq('hmfmddif')})"
+        ),
         "ND_md_err": variable(
             b,
             fit["ND_md_err"],

@@ -10,6 +10,7 @@ import numpy as np
 import xarray as xr
 
 from ...meanfield.histograms import density_from_histogram, entropy_from_histogram
+from ...paper_equations import eq
 from .variables import ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL
 from .variables import variable as _var
 
@@ -50,7 +51,7 @@ def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
                 ("t", "realisation"),
                 out["energy"],
                 "energy per particle",
-                "H/N = sum p^2/(2N) - |M|^2/2 (eq. hmfhamiltonian)",
+                f"H/N = sum p^2/(2N) - |M|^2/2 ({eq('hmfhamiltonian')})",
                 valid=ENERGY_PER_PARTICLE,
             ),
             "momentum": _var(
@@ -178,7 +179,7 @@ def relaxation_md_dataset(out, edges, *, case, state, n_particles, run):
             "tau_max": float(run["tau_max"]),
             "seed": int(run["seed"]),
             "seeding": "realisation r draws from default_rng(SeedSequence([seed, r]))",
-            "dynamics": "full N-body HMF (eq. hmfmdfull), velocity Verlet",
+            "dynamics": f"full N-body HMF ({eq('hmfmdfull')}), velocity Verlet",
             "action_frame": "each realisation's magnetisation direction; modulus M0_actions",
             "M0_initial_state": float(state.M0),
             "wall_time_s": float(out["wall_time_s"]),

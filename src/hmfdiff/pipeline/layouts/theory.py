@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ...paper_equations import FIGURES, eq
 from .variables import D_UNITS, NONNEGATIVE, UNIT_INTERVAL, variable
 
 __all__ = ["theory_dataset", "closed_forms_dataset"]
@@ -24,11 +25,15 @@ def theory_dataset(grid):
 
     res = grid["resonances"]
     data = {
-        "J": kv(grid["J"], "action", "action J(kappa) (eq. hmfaction)"),
+        "J": kv(grid["J"], "action", f"action J(kappa) ({eq('hmfaction')})"),
         "Jbar": kv(
             grid["Jbar"], "action", "rescaled action J-bar (J/2 for kappa < 1, J for kappa > 1)"
         ),
-        "Omega": kv(grid["Omega"], "1/time", "orbital frequency Omega(kappa) (eq. hmfomega)"),
+        # not "Omega": CF names may not differ by case only, and the frequency coordinate of
+        # eps is "omega" (the orbits file, which has no omega, keeps the name Omega)
+        "Omega_orbit": kv(
+            grid["Omega"], "1/time", f"orbital frequency Omega(kappa) ({eq('hmfomega')})"
+        ),
         "resonance_n": variable(
             ("resonance",),
             res["n"].astype(np.int32),
@@ -70,24 +75,25 @@ def theory_dataset(grid):
             valid=UNIT_INTERVAL,
         ),
     }
-    for name, word, eqs in (
-        ("landau", "without", "Landau, eqs. hmfCEdif, hmfDbare"),
-        ("lenard_balescu", "with", "Lenard-Balescu, eqs. hmfCEdif, hmfD"),
+    for name, word, theory, d_eq in (
+        ("landau", "without", "Landau", "hmfDbare"),
+        ("lenard_balescu", "with", "Lenard-Balescu", "hmfD"),
     ):
+        eqs = f"{theory}, {eq('hmfCEdif', d_eq)}"
         coef = grid[name]
         data[f"D_{name}"] = kv(coef["D"], D_UNITS, f"N D_dif {word} collective effects ({eqs})")
         data[f"Dpol_{name}"] = kv(
             coef["Dpol"],
             D_UNITS,
-            f"N D_pol {word} collective effects (eq. hmfCEpol); flux = D_dif df/dJ - D_pol f",
+            f"N D_pol {word} collective effects ({eq('hmfCEpol')}); flux = D_dif df/dJ - D_pol f",
             valid=None,  # friction: no sign of its own
         )
         data[f"gamma_{name}"] = variable(
             kr,
             coef["gamma"],
             D_UNITS,
-            f"contribution gamma(kappa, kappa*) of each resonance to N D_dif ({eqs.split(',')[0]};"
-            f" fig. hmfcontribs); sums to D_{name}",
+            f"contribution gamma(kappa, kappa*) of each resonance to N D_dif ({theory}, "
+            f"{eq('hmfCEdif')}; fig. {FIGURES['fig:hmfcontribs']}); sums to D_{name}",
             valid=NONNEGATIVE,
             missing="NaN where the resonance has no root",
         )
@@ -100,7 +106,7 @@ def theory_dataset(grid):
             k,
             grid["kappa"],
             "1",
-            "orbit label kappa (eq. hmfkappa); < 1 librating, > 1 rotating",
+            f"orbit label kappa ({eq('hmfkappa')}); < 1 librating, > 1 rotating",
             valid=NONNEGATIVE,
         ),
         "omega": variable(
@@ -124,9 +130,9 @@ def closed_forms_dataset(forms):
     forms on librating orbits, and the closed-form dielectric tensor where there is one."""
     n_max, method = forms["n_max"], forms["dielectric_method"]
     long_names = {
-        "D_landau_sech4": "N D_dif, Landau, sech^4 closed form (eq. coeff-analytic-ncoll; the "
+        "D_landau_sech4": f"N D_dif, Landau, sech^4 closed form ({eq('coeff-analytic-ncoll')}; the "
         "n = n' = +-1 term)",
-        "D_landau_small_kappa": "N D_dif ~ 32 pi^2 kappa^4 f (eq. coeff-analytic-ncoll-exp)",
+        "D_landau_small_kappa": f"N D_dif ~ 32 pi^2 kappa^4 f ({eq('coeff-analytic-ncoll-exp')})",
         "D_landau_librating_sum": f"N D_dif, Landau, librating resonances |n|,|n'| <= {n_max}",
         "Dpol_landau_sech4": "N D_pol, Landau, sech^4 closed form, sign corrected",
         "D_lenard_balescu_closed": f"N D_dif with collective effects, {method}, "
