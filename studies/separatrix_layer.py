@@ -2,16 +2,19 @@
 next to the separatrix.
 
     python studies/separatrix_layer.py eta_min CASE EQUATION [ETA_MIN ...]
-    python studies/separatrix_layer.py nodes CASE EQUATION [N_NODES ...]
-    python studies/separatrix_layer.py omega CASE EQUATION [DLOG_OMEGA ...]
+    python studies/separatrix_layer.py grid CASE EQUATION [FACTOR ...]
+    python studies/separatrix_layer.py derivative CASE EQUATION [face|interpolated ...]
     python studies/separatrix_layer.py all                     # the table of the docs
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
 = 1e-3, the reproduction's settings) with the default grid of config/config.yaml but for the one
-setting varied: the innermost node pair at kappa = 1 -+ eta_min (`layer_eta_min`), the outer
-node count (`n_nodes`), or the resolution in ln Omega (`dlog_omega`, which grades the grid next
-to the separatrix where Omega -> 0 as 1/ln(1/|kappa - 1|)).  It prints tau_R (fine-grained
+setting varied: the innermost node pair at kappa = 1 -+ eta_min (`layer_eta_min`); the whole grid refined by a
+FACTOR (`n_nodes` times it, the resolution in ln Omega `dlog_omega` divided by it: that
+resolution grades the grid next to the separatrix, where Omega -> 0 as 1/ln(1/|kappa - 1|));
+or how the resonances read d ln f/dh within a face (`kinetic.relaxation.DERIVATIVE`: the face's
+own difference quotient, first order, or interpolated to the resonance, second order).  It
+prints tau_R (fine-grained
 entropy deficit / e), tau_R^coarse (the same on the N-body ensembles' 40 J-bar bins to
 kappa = 3, as results/relaxation_comparison), dM0/dtau at tau = 0 (`dM0dtau_initial`), the mean
 rate over tau <= 0.5 (`dM0dtau_early`, the window of results/relaxation_rates), the number of
@@ -36,6 +39,7 @@ from hmfdiff.analysis.relaxation_md import (  # noqa: E402
     relaxation_time,
     state_bin_fractions,
 )
+from hmfdiff.kinetic import relaxation  # noqa: E402
 from hmfdiff.kinetic.relaxation import RelaxationSettings, evolve  # noqa: E402
 from hmfdiff.meanfield import orbits  # noqa: E402
 from hmfdiff.meanfield.equilibrium import ThermalState, make_state  # noqa: E402
@@ -54,8 +58,8 @@ CASES = {
     ),
 }
 #: the reproduction's settings (config/config.yaml relaxation block)
-BASE = dict(n_nodes=600, rtol=1e-3, thermal_tol=1e-3, tau_max=1e5)
-VARY = {"eta_min": "layer_eta_min", "nodes": "n_nodes", "omega": "dlog_omega"}
+BASE = dict(rtol=1e-3, thermal_tol=1e-3, tau_max=1e5)
+VARY = ("eta_min", "grid", "derivative")
 
 
 def coarse_time(out, state):
@@ -103,18 +107,33 @@ def line(case, equation, label, r):
 
 
 def sweep(kind, case, equation, values):
-    key = VARY[kind]
+    default = RelaxationSettings()
     for v in values:
-        value = int(v) if key == "n_nodes" else float(v)
-        r = one(case, equation, **{key: value})
-        print(line(case, equation, f"{key}={value:g}", r), flush=True)
+        if kind == "eta_min":
+            kw, label = {"layer_eta_min": float(v)}, f"eta_min={float(v):g}"
+        elif kind == "grid":
+            factor = float(v)
+            kw = {
+                "n_nodes": int(round(default.n_nodes * factor)),
+                "dlog_omega": default.dlog_omega / factor,
+            }
+            label = f"grid x{factor:g}"
+        else:
+            kw, label = {}, f"derivative={v}"
+        saved = relaxation.DERIVATIVE
+        relaxation.DERIVATIVE = v if kind == "derivative" else saved
+        try:
+            r = one(case, equation, **kw)
+        finally:
+            relaxation.DERIVATIVE = saved
+        print(line(case, equation, label, r), flush=True)
 
 
 #: the table of docs/reference/separatrix_layer.txt
 ALL = [
     ("eta_min", ["1e-2", "1e-4", "1e-8", "1e-16", "1e-32", "1e-64"]),
-    ("omega", ["0.08", "0.04", "0.02", "0.01"]),
-    ("nodes", ["300", "600", "1200"]),
+    ("grid", ["0.5", "1", "2"]),
+    ("derivative", ["face"]),
 ]
 
 

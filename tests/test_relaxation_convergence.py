@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from hmfdiff.kinetic.grid import action_grid, project_state, solve_grid_M0
-from hmfdiff.kinetic.relaxation import RelaxationSettings, _Operator
-from hmfdiff.meanfield import orbits
+from hmfdiff.kinetic.grid import project_state, solve_grid_M0
+from hmfdiff.kinetic.relaxation import Kinetics, RelaxationSettings, make_grid
+from hmfdiff.meanfield import orbits, separatrix
 from hmfdiff.meanfield.equilibrium import make_state
 from hmfdiff.meanfield.fourier import cos_coefficient
 
@@ -47,8 +47,10 @@ def _djbar_dkappa(kappa, M0):
 
 
 def _grid(state, case, n_nodes, equation="landau"):
-    s = RelaxationSettings(equation=equation, n_nodes=n_nodes, kappa_max=KAPPA_MAX[case])
-    grid = action_grid(state.M0, n_nodes, s.kappa_max, state, s.feature_share, s.separatrix_share)
+    s = RelaxationSettings(
+        equation=equation, n_nodes=n_nodes, kappa_max=KAPPA_MAX[case], dlog_omega=0.04
+    )
+    grid = make_grid(state, s)
     f, M0 = project_state(state, grid)
     return s, grid, f, M0
 
@@ -84,7 +86,7 @@ def _continuum_M0_response(state, kmax):
 
 
 def _grid_M0_response(grid, f, M0, eps=1e-3):
-    g = grid.jbar / orbits.jbar_separatrix(M0)
+    g = grid.jbar(M0) / orbits.jbar_separatrix(M0)
     up = solve_grid_M0(grid, f * (1 + eps * g), M0)
     down = solve_grid_M0(grid, f * (1 - eps * g), M0)
     return (up - down) / (2 * eps)
@@ -135,9 +137,8 @@ def test_current_moment_of_clipped_cos_matches_fokker_planck_quadrature(states, 
     state = states["hot"]
     s, grid, f, M0 = _grid(state, "hot", 300, equation)
     phi = np.maximum(
-        cos_coefficient(0, orbits.kappa_from_rescaled_action(grid.jbar, M0)),
-        cos_coefficient(0, 1.0 + delta),
+        separatrix.cos_average_plus_one(grid.eta) - 1.0, cos_coefficient(0, 1.0 + delta)
     )
-    flux = _Operator(grid, f, M0, s).op.face_flux(np.log(f))  # 4 pi G-bar
+    flux = Kinetics(grid, s).operator(f, M0).face_flux(np.log(f))  # 4 pi G-bar
     moment = float(np.dot(flux, np.diff(phi)))
     assert moment == pytest.approx(CLIPPED_MOMENT[equation, delta], rel=0.02)

@@ -16,7 +16,7 @@ import numpy as np
 from scipy import sparse
 from scipy.interpolate import CubicSpline
 
-from hmfdiff.kinetic.relaxation import RelaxationSettings, _backward_euler, _Operator, evolve
+from hmfdiff.kinetic.relaxation import Kinetics, RelaxationSettings, _backward_euler, evolve
 from hmfdiff.meanfield.equilibrium import make_state
 
 HOT = dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0)
@@ -30,13 +30,15 @@ def test_each_step_uses_the_orbits_of_its_mid_step_magnetisation():
     (tau, M0) of the same run."""
     state = make_state(HOT)
     s = RelaxationSettings(
-        equation="landau", n_nodes=48, kappa_max=3.5, tau_max=4.0, thermal_tol=0.0
+        equation="landau", n_nodes=48, kappa_max=3.5, tau_max=4.0, thermal_tol=0.0, dlog_omega=0.1
     )
     seen = []
+    kinetics = {}
 
     def factory(grid, f, M):
         seen.append(M)
-        return _Operator(grid, f, M, s).op
+        kin = kinetics.setdefault(id(grid), Kinetics(grid, s))
+        return kin.operator(f, M)
 
     out = evolve(state, s, operator=factory)
     tau, M0 = out["tau"], out["M0"]

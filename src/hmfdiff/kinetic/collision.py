@@ -53,7 +53,14 @@ from scipy import sparse
 from ..meanfield import separatrix
 from ..meanfield.fourier import cos_coefficient_eta, sin_coefficient_imag_eta
 
-__all__ = ["Geometry", "Events", "geometry", "resonance_events", "CollisionOperator"]
+__all__ = [
+    "Geometry",
+    "Events",
+    "geometry",
+    "resonance_events",
+    "jacobian_assembly",
+    "CollisionOperator",
+]
 
 #: 16 pi^3: 4 pi (phase volume per J-bar) x 4 pi^2 (kernel) x 1/2 (symmetrisation) x 2 (n, n' < 0)
 KERNEL = 16.0 * np.pi**3
@@ -233,7 +240,8 @@ def _derivative_at(geom, face, theta, derivative):
     other = np.where(pos < centre[face], face - 1, face + 1)
     ok = (other >= 0) & (other < nf)
     other = np.clip(other, 0, nf - 1)
-    w = np.where(ok, np.abs(pos - centre[face]) / np.abs(centre[other] - centre[face]), 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):  # no neighbour at the grid's ends
+        w = np.where(ok, np.abs(pos - centre[face]) / np.abs(centre[other] - centre[face]), 0.0)
     w = np.clip(w, 0.0, 1.0)
     rows = np.concatenate((np.arange(E), np.arange(E)))
     cols = np.concatenate((face, other))
@@ -299,6 +307,26 @@ def resonance_events(geom, n_max, m=4, m_sep=24, derivative="face"):
     return Events(a, b, C, P, inv, np.concatenate(oms), KERNEL * vcc, KERNEL * vss)
 
 
+def jacobian_assembly(Xhat, P):
+    """Sparse maps from per-event weights to the entries of the dense Jacobian: with v, u per
+    event, (X^T diag(v) X)_ij = (A1 v)_{iN+j} and (X^T diag(u) P)_ij = (A2 u)_{iN+j}, A1 and A2
+    (N*N, E) holding the outer products of each event's few nonzeros; so that a Newton matrix
+    costs two sparse matrix-vector products.  Computed once per grid (reduced X^)."""
+    n = Xhat.shape[1]
+    Xc = Xhat.tocoo()
+    maps = []
+    for right in (Xhat.tocsr(), P.tocsr()):
+        start, idx, dat = right.indptr, right.indices, right.data
+        counts = start[Xc.row + 1] - start[Xc.row]
+        rep = np.repeat(np.arange(Xc.nnz), counts)
+        offs = np.arange(rep.size) - np.repeat(np.cumsum(counts) - counts, counts)
+        k = start[Xc.row[rep]] + offs
+        rows = Xc.col[rep] * n + idx[k]
+        vals = Xc.data[rep] * dat[k]
+        maps.append(sparse.csr_matrix((vals, (rows, Xc.row[rep])), shape=(n * n, Xhat.shape[0])))
+    return tuple(maps)
+
+
 class CollisionOperator:
     """dm/dtau = -X^T (W F X[ln f]) at magnetisation M for one geometry, resonance set and
     dielectric factor (m the node masses at M).
@@ -307,41 +335,57 @@ class CollisionOperator:
     the frequency of every elementary resonance.
     """
 
-    def __init__(self, geom, events, M, eps=None):
+    def __init__(self, geom, events, M, eps=None, assembly=None):
         self.geom = geom
         self.events = events
         self.M = float(M)
         self.W = events.weights(self.M, eps)
-        self.X = ((events.C @ geom.D) / self.M).tocsr()  # (E, N): X = X^/M
+        self.Xhat = (events.C @ geom.D).tocsr()  # (E, N), reduced units
+        self.X = (self.Xhat / self.M).tocsr()  # X = X^/M
         self.P = events.P
         self.XT = self.X.T.tocsr()
         self.dj = np.sqrt(self.M) * geom.dj  # face spacings in J-bar
+        self.assembly = assembly
 
-    def _parts(self, y):
-        F = np.exp(self.P @ y)
+    def _parts(self, y, level=0.0):
+        # ln F_e = ln f on the test side + ln f on the partner side: P's rows sum to 2
+        F = np.exp(2.0 * level + self.P @ y)
         Xy = self.X @ y
         return F, Xy
 
-    def rate(self, y):
-        """dm/dtau at ln f = y (mass per node per unit tau)."""
-        F, Xy = self._parts(y)
+    def rate(self, y, level=0.0):
+        """dm/dtau at ln f = level + y (mass per node per unit tau).  X annihilates constants,
+        so that y may be ln f's offsets from a level, which keep their digits where ln f
+        differs between neighbouring cells below its own rounding (next to the separatrix)."""
+        F, Xy = self._parts(y, level)
         return -(self.XT @ (self.W * F * Xy))
 
-    def jacobian(self, y):
+    def jacobian_dense(self, y, level=0.0):
+        """d(rate)/dy as a dense (N, N) array, from `jacobian_assembly` (J = -(X^T diag(W F) X
+        + X^T diag(W F X y) P) with X = X^/M)."""
+        if self.assembly is None:
+            self.assembly = jacobian_assembly(self.Xhat, self.P)
+        F, Xy = self._parts(y, level)
+        WF = self.W * F
+        n = self.X.shape[1]
+        J = self.assembly[0] @ (WF / self.M**2) + self.assembly[1] @ (WF * Xy / self.M)
+        return -J.reshape(n, n)
+
+    def jacobian(self, y, level=0.0):
         """d(rate)/dy as a sparse (N, N) matrix."""
-        F, Xy = self._parts(y)
+        F, Xy = self._parts(y, level)
         WF = self.W * F
         J = self.XT @ sparse.diags(WF) @ self.X + self.XT @ sparse.diags(WF * Xy) @ self.P
         return -J
 
-    def face_flux(self, y):
+    def face_flux(self, y, level=0.0):
         """Number flux 4 pi G-bar through each face a (towards larger J-bar)."""
-        F, Xy = self._parts(y)
+        F, Xy = self._parts(y, level)
         # C at M is C^/sqrt(M) (dj/dh: sqrt(M) dj^ / (M deps^)), and dj = sqrt(M) dj^
         q = (self.events.C.T @ (self.W * F * Xy)) / np.sqrt(self.M)
         return -q / self.dj
 
-    def entropy_production(self, y):
+    def entropy_production(self, y, level=0.0):
         """dS/dtau = sum_e W F X[ln f]^2 >= 0."""
-        F, Xy = self._parts(y)
+        F, Xy = self._parts(y, level)
         return float(np.sum(self.W * F * Xy**2))

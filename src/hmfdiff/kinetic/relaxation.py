@@ -27,6 +27,7 @@ between one step and two half steps, relative to max f, is kept below `rtol`.
 
 from __future__ import annotations
 
+import inspect
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -34,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import linalg
 
-from .collision import CollisionOperator, geometry, resonance_events
+from .collision import CollisionOperator, geometry, jacobian_assembly, resonance_events
 from .dielectric import DielectricTensor
 from .grid import (
     JS_HAT,
@@ -59,7 +60,7 @@ __all__ = [
 
 EQUATIONS = ("landau", "lenard_balescu")
 #: how the resonances read d ln f/dh in a face (`collision._derivative_at`)
-DERIVATIVE = "face"
+DERIVATIVE = "interpolated"
 #: ln f is kept above this (f = 0 cannot be represented in ln f)
 LOG_FLOOR = -700.0
 
@@ -139,49 +140,99 @@ class _History:
     distance: list = field(default_factory=list)
 
 
-def _newton_matrix(op, vol, y, dt):
-    """LU of I - dt diag(1/m) d(rate)/dy at y (rows relative to each node's mass m = vol f),
-    or None if exactly singular.  Dense LU: the collision operator couples every node to its
-    resonant partners (~12 % of the matrix filled at 600 nodes), where LAPACK factorises 4x
-    faster than SuperLU."""
-    scale = 1.0 / (vol * np.exp(y))
-    Jm = np.eye(y.size) - dt * (scale[:, None] * op.jacobian(y).toarray())
+def _call(op, name, d, level):
+    """op.name(d, level) for the collision operator (ln f = level + d); operators of the testing
+    seam whose methods take ln f alone get level + d."""
+    method = getattr(op, name)
+    try:
+        two = len(inspect.signature(method).parameters) >= 2
+    except (TypeError, ValueError):
+        two = False
+    return method(d, level) if two else method(level + d)
+
+
+def _jacobian(op, d, level):
+    dense = getattr(op, "jacobian_dense", None)
+    if dense is not None:
+        return _call(op, "jacobian_dense", d, level)
+    return _call(op, "jacobian", d, level).toarray()
+
+
+def _newton_matrix(op, vol, level, d, dt, gauge, scales):
+    """LU of the Newton matrix of the backward-Euler step in the unknowns (Delta d_j / s_j,
+    Delta level in the gauge node's column), columns multiplied by the offsets' natural scales
+    s_j and rows divided by their largest entry (returned with the LU); None if exactly
+    singular.  Dense LU: the
+    collision operator couples every node to its resonant partners (~12 % of the matrix
+    filled at 600 nodes), where LAPACK factorises 4x faster than SuperLU."""
+    m = vol * np.exp(level + d)
+    jac = _jacobian(op, d, level)
+    A = np.diag(m) - dt * jac
+    if gauge is not None:
+        A[:, gauge] = m - dt * _call(op, "rate", d, level)  # d r / d level
+    A = A * scales[None, :]
+    rows = np.max(np.abs(A), axis=1)  # row equilibration (the nodes next to the separatrix
+    rows = np.where(rows > 0, rows, 1.0)  # have tiny masses and enormous couplings)
+    A = A / rows[:, None]
     with warnings.catch_warnings():  # an exactly singular matrix is reported by the caller
         warnings.simplefilter("ignore", linalg.LinAlgWarning)
-        lu, piv = linalg.lu_factor(Jm, check_finite=False)
+        lu, piv = linalg.lu_factor(A, check_finite=False)
     if np.any(np.diag(lu) == 0.0):
         return None
-    return lu, piv
+    return lu, piv, rows
 
 
-def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
-    """Solve vol e^y - vol e^y0 = dt * rate(y) by damped Newton iterations that reuse their
-    factorised matrix while it contracts the correction by at least half an iteration (and
-    refactorise otherwise); returns (y, converged)."""
-    m0 = vol * np.exp(y0)
-    y = y0.copy()
+def _backward_euler_offsets(op, vol, level0, d0, dt, gauge, scales, tol=1e-13, max_iter=50):
+    """Solve vol f - vol f0 = dt rate(f) for ln f = level + d by damped Newton iterations
+    that reuse their factorised matrix while it contracts the correction by at least half an
+    iteration (and refactorise otherwise).  With a gauge node, d stays 0 there and the level
+    is an unknown, so that the offsets d next to the separatrix, where ln f of neighbouring
+    cells differ below its own rounding, keep their digits; scales: the offsets' natural size
+    per node (the unknowns are Delta d / scales).  Returns (level, d, converged)."""
+    m0 = vol * np.exp(level0 + d0)
+    level, d = float(level0), d0.copy()
     lu = None
     last = np.inf
     for _ in range(max_iter):
-        f = np.exp(y)
+        f = np.exp(level + d)
         if lu is None:
-            lu = _newton_matrix(op, vol, y, dt)
+            lu = _newton_matrix(op, vol, level, d, dt, gauge, scales)
             if lu is None:  # exactly singular
-                return y, False
+                return level, d, False
             last = np.inf
-        r = vol * f - m0 - dt * op.rate(y)
-        d = linalg.lu_solve(lu, -r / (vol * f), check_finite=False)
-        if not np.all(np.isfinite(d)):
-            return y, False
-        size = np.max(np.abs(d))
+        r = vol * f - m0 - dt * _call(op, "rate", d, level)
+        w = linalg.lu_solve(lu[:2], -r / lu[2], check_finite=False) * scales
+        if not np.all(np.isfinite(w)):
+            return level, d, False
+        dlevel = 0.0
+        if gauge is not None:
+            dlevel, w[gauge] = w[gauge], 0.0
+        change = np.abs(dlevel + w)  # |Delta ln f| per node
+        size = np.max(change)
         step = min(1.0, 2.0 / max(size, 1e-300))
-        y = np.maximum(y + step * d, LOG_FLOOR)
-        if step == 1.0 and np.max(np.abs(d) * f) <= tol * np.max(f):
-            return y, True
+        level += step * dlevel
+        d = d + step * w
+        floor = LOG_FLOOR - level
+        d = np.maximum(d, floor)
+        # converged: |Delta ln f| f below tol max f, except where the offsets are below 1e-6
+        # of their natural size (next to the separatrix, where ln f is set by a flux balance
+        # that double precision resolves only to ~1e-10 of the offsets: their mass is nil)
+        rel = (scales < 1e-8) & (np.abs(w) <= 1e-6 * scales)
+        if step == 1.0 and np.max(np.where(rel, 0.0, change * f)) <= tol * np.max(f):
+            return level, d, True
         if step < 1.0 or size > 0.5 * last:  # slow: a fresh Jacobian next
             lu = None
         last = size
-    return y, False
+    return level, d, False
+
+
+def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
+    """Solve vol e^y - vol e^y0 = dt * rate(y) by damped Newton (`_backward_euler_offsets`
+    without a gauge); returns (y, converged)."""
+    _, y, ok = _backward_euler_offsets(
+        op, vol, 0.0, np.asarray(y0, float), dt, None, np.ones(np.size(y0)), tol, max_iter
+    )
+    return y, ok
 
 
 def _interpolated_dielectric(tensor, geom, M, n_max, l_max):
@@ -261,12 +312,15 @@ class Kinetics:
         self.geom = geometry(grid)
         self.events = resonance_events(self.geom, settings.n_max, derivative=DERIVATIVE)
         self.dielectric = _Dielectric(settings)
+        self.assembly = jacobian_assembly(
+            (self.events.C @ self.geom.D).tocsr(), self.events.P
+        )
 
     def operator(self, f, M):
         eps = None
         if self.settings.equation == "lenard_balescu":
             eps = self.dielectric(self.grid, f, M, self.geom)
-        return CollisionOperator(self.geom, self.events, M, eps)
+        return CollisionOperator(self.geom, self.events, M, eps, self.assembly)
 
 
 def make_grid(state, settings):
@@ -303,13 +357,86 @@ def early_rate(tau, M0, window):
     return float((np.interp(window, tau, M0) - M0[0]) / window)
 
 
-def initial_rate(grid, op, y, M0, h=1e-6):
-    """dM0/dtau of the state y = ln f at M0: sum_i (dm_i/dtau) <cos theta>_i / mass (the change
-    of f at fixed orbits) over 1 - dF/dM0 (the self-consistent response of M0 to it)."""
-    f = np.exp(y)
-    num = float(np.dot(op.rate(y), grid.cos_avg)) / grid_mass(grid, f, M0)
+def initial_rate(grid, op, d, M0, level=0.0, h=1e-6):
+    """dM0/dtau of the state ln f = level + d at M0: sum_i (dm_i/dtau) <cos theta>_i / mass (the
+    change of f at fixed orbits) over 1 - dF/dM0 (the self-consistent response of M0 to it)."""
+    f = np.exp(level + d)
+    num = float(np.dot(_call(op, "rate", d, level), grid.cos_avg)) / grid_mass(grid, f, M0)
     dF = (magnetisation_map(grid, f, M0, M0 + h) - magnetisation_map(grid, f, M0, M0 - h)) / (2 * h)
     return num / (1.0 - dF)
+
+
+#: nodes closer to the separatrix than this reduced offset are carried as offsets of ln f when
+#: f is remapped (their ln f differ below its rounding)
+DEEP_OFFSET = 1e-8
+
+
+class _LogDensity:
+    """ln f = level + d on the grid: d = 0 at the gauge node (the innermost librating one) and
+    the offsets d of the nodes next to the separatrix carry the digits by which their ln f
+    differ (d ~ -beta (h - M0) there), the level the common part."""
+
+    def __init__(self, grid, level, d):
+        self.grid = grid
+        self.gauge = grid.sep - 1
+        self.level = float(level)
+        self.d = np.asarray(d, dtype=float)
+
+    @property
+    def f(self):
+        return np.exp(self.level + self.d)
+
+    def scales(self, M):
+        """The Newton unknowns' natural size per node: |h_i - h_gauge| for the offsets (at most
+        1), 1 for the level (in the gauge node's column)."""
+        e = M * self.grid.eps_hat
+        out = np.minimum(np.abs(e - e[self.gauge]), 1.0)
+        out[self.gauge] = 1.0
+        return out
+
+    @classmethod
+    def of_state(cls, grid, state, M, f):
+        """The projection f (`project_state`) of a state F(h) as a level and offsets, the deep
+        nodes' offsets from d ln F/dh at the separatrix (second order in h - M)."""
+        gauge = grid.sep - 1
+        e = M * grid.eps_hat
+        level = float(np.log(f[gauge]))
+        d = np.log(f) - level
+        deep = np.abs(grid.xhat) < DEEP_OFFSET
+        if np.any(deep):
+            step = 1e-4 * M
+            lnF = [float(np.log(state.f_energy(M + e[gauge] + k * step))) for k in (-1, 0, 1)]
+            s1 = (lnF[2] - lnF[0]) / (2 * step)
+            s2 = (lnF[2] - 2 * lnF[1] + lnF[0]) / step**2
+            de = e[deep] - e[gauge]
+            d[deep] = s1 * de + 0.5 * s2 * de * (e[deep] + e[gauge] - 2 * e[gauge])
+        return cls(grid, level, d)
+
+    def remapped(self, M_from, M_to):
+        """The state carried to the frame M_to (`grid.remap` on f, conservative), the deep
+        nodes' offsets interpolated linearly in J-bar offset from the old nodes at the J-bar
+        they now cover."""
+        grid = self.grid
+        f = self.f
+        f_new = _floor(remap(grid, f, M_from, M_to))
+        factor = np.sum(grid.width_hat * f_new) * np.sqrt(M_to) / (
+            np.sum(grid.width_hat * f) * np.sqrt(M_from)
+        )
+        deep = np.abs(grid.xhat) < DEEP_OFFSET
+        if not np.any(deep) or M_from == M_to:
+            level = float(np.log(f_new[self.gauge]))
+            return _LogDensity(grid, level, np.log(f_new) - level)
+        # old nodes seen from the new frame (as frame_offsets does for the edges)
+        rho_m1 = (M_from - M_to) / (np.sqrt(M_to) * (np.sqrt(M_from) + np.sqrt(M_to)))
+        y_old = grid.xhat * (1.0 + rho_m1) + JS_HAT * rho_m1
+        d_deep = np.interp(grid.xhat[deep], y_old, self.d) + np.log(factor)
+        level = self.level + float(np.interp(grid.xhat[self.gauge], y_old, self.d)) + np.log(
+            factor
+        )
+        d = np.log(f_new) - level
+        d[deep] = d_deep - (level - self.level)
+        d[self.gauge] = 0.0
+        return _LogDensity(grid, level, d)
 
 
 def evolve(state, settings, progress=None, operator=None):
@@ -339,7 +466,7 @@ def evolve(state, settings, progress=None, operator=None):
     t0 = time.perf_counter()
     grid = make_grid(state, s)
     f, M0 = project_state(state, grid)
-    y = np.log(f)
+    lnf = _LogDensity.of_state(grid, state, M0, f)
     hist = _History()
     u0 = grid_energy(grid, f, M0)
     f_eq, M0_eq, beta_eq = grid_thermal_state(grid, u0, None)
@@ -348,8 +475,8 @@ def evolve(state, settings, progress=None, operator=None):
     tau_flux, flux, sdot, M_flux = [], [], [], []
     kin = Kinetics(grid, s) if operator is None else None
 
-    def record(tau, y, M0):
-        f = np.exp(y)
+    def record(tau, lnf, M0):
+        f = lnf.f
         hist.tau.append(tau)
         hist.f.append(f)
         hist.M0.append(M0)
@@ -377,21 +504,28 @@ def evolve(state, settings, progress=None, operator=None):
             return operator(grid, f, M)
         return kin.operator(f, M)
 
-    def record_flux(tau, y, M0):
-        op = make_operator(np.exp(y), M0)
+    def record_flux(tau, lnf, M0):
+        op = make_operator(lnf.f, M0)
         tau_flux.append(tau)
-        flux.append(op.face_flux(y) / PHASE_VOLUME_PER_JBAR)
-        sdot.append(op.entropy_production(y))
+        flux.append(_call(op, "face_flux", lnf.d, lnf.level) / PHASE_VOLUME_PER_JBAR)
+        sdot.append(_call(op, "entropy_production", lnf.d, lnf.level))
         M_flux.append(M0)
         return op
 
+    def step_to(op, vol, start, dt, scales):
+        level, d, ok = _backward_euler_offsets(
+            op, vol, start.level, start.d, dt, start.gauge, scales
+        )
+        return _LogDensity(grid, level, d), ok
+
     tau = 0.0
-    dist = record(tau, y, M0)
-    op = record_flux(tau, y, M0)
-    dM0dtau_initial = initial_rate(grid, op, y, M0)
-    y_mid, M_mid = y, M0
+    dist = record(tau, lnf, M0)
+    op = record_flux(tau, lnf, M0)
+    dM0dtau_initial = initial_rate(grid, op, lnf.d, M0, lnf.level)
+    mid, M_mid = lnf, M0
     vol = grid.volume(M0)
-    rate0 = np.max(np.abs(op.rate(y)) / vol)
+    scales = lnf.scales(M0)
+    rate0 = np.max(np.abs(_call(op, "rate", lnf.d, lnf.level)) / vol)
     dt = s.dtau_first or (s.rtol * np.max(f) / rate0 if rate0 > 0 else s.tau_max)
     dM0dt = 0.0
     fresh = False  # the operator of tau = 0 serves the first step (dM0/dtau unknown: 0)
@@ -403,37 +537,37 @@ def evolve(state, settings, progress=None, operator=None):
             dt = min(dt, upcoming[0] - tau)
         if fresh:  # a new step: f in the frame of the predicted mid-step M0 (kept if rejected)
             M_mid = M0 + 0.5 * dM0dt * dt
-            y_mid = np.log(_floor(remap(grid, np.exp(y), M0, M_mid)))
-            op = make_operator(np.exp(y_mid), M_mid)
+            mid = lnf.remapped(M0, M_mid)
+            op = make_operator(mid.f, M_mid)
             vol = grid.volume(M_mid)
+            scales = mid.scales(M_mid)
             fresh = False
-        y1, ok1 = _backward_euler(op, vol, y_mid, dt)
-        yh, okh = _backward_euler(op, vol, y_mid, 0.5 * dt) if ok1 else (y_mid, False)
-        y2, ok2 = _backward_euler(op, vol, yh, 0.5 * dt) if okh else (y_mid, False)
+        one, ok1 = step_to(op, vol, mid, dt, scales)
+        half, okh = step_to(op, vol, mid, 0.5 * dt, scales) if ok1 else (mid, False)
+        two, ok2 = step_to(op, vol, half, 0.5 * dt, scales) if okh else (mid, False)
         if not (ok1 and okh and ok2):
             n_rejected += 1
             dt *= 0.25
             continue
-        fmax = np.max(np.exp(y_mid))
-        err = np.max(np.abs(np.exp(y2) - np.exp(y1))) / (s.rtol * fmax)
+        fmax = np.max(mid.f)
+        err = np.max(np.abs(two.f - one.f)) / (s.rtol * fmax)
         if err > 1.0:
             n_rejected += 1
             dt *= max(0.2, 0.9 / np.sqrt(err))
             continue
         tau += dt
         n_steps += 1
-        f2 = np.exp(y2)
-        M0_new = solve_grid_M0(grid, f2, M_mid, guess=M0 + dM0dt * dt)
-        y = np.log(_floor(remap(grid, f2, M_mid, M0_new)))
+        M0_new = solve_grid_M0(grid, two.f, M_mid, guess=M0 + dM0dt * dt)
+        lnf = two.remapped(M_mid, M0_new)
         dM0dt = (M0_new - M0) / dt
         M0 = M0_new
-        dist = record(tau, y, M0)
+        dist = record(tau, lnf, M0)
         fresh = True
         if any(abs(tau - t) <= 1e-9 * max(t, 1.0) for t in flux_times):
-            record_flux(tau, y, M0)
+            record_flux(tau, lnf, M0)
         dt *= min(4.0, 0.9 / np.sqrt(max(err, 1e-12)))
     if tau_flux[-1] != tau:
-        record_flux(tau, y, M0)
+        record_flux(tau, lnf, M0)
     out = {k: np.asarray(v) for k, v in hist.__dict__.items()}
     M_hist = out["M0"]
     out.update(

@@ -82,13 +82,18 @@ def fig11_relaxation(inputs, pdf, png):
                 titles.append(f"{case}: no {label} run")
                 continue
             ds = eqs[eq]
-            jbar = ds["Jbar"].values
+            # the nodes' J-bar at each tau (the grid stretches with sqrt(M0))
+            jbar = np.atleast_2d(ds["Jbar"].values)
+            jbar = np.broadcast_to(jbar, ds["f"].shape)
             idx = _snapshot_indices(ds)
             cols = plt.cm.viridis(np.linspace(0.0, 0.85, len(idx)))
             for c, i in zip(cols, idx, strict=True):
                 tau = float(ds["tau"][i])
-                ax.plot(jbar, ds["f"].values[i], color=c, lw=1, label=rf"$\tau={sci(tau, 3)}$")
-            ax.plot(jbar, ds["f_thermal_analytic"].values, "r:", lw=1.2, label="thermal, same $u$")
+                ax.plot(jbar[i], ds["f"].values[i], color=c, lw=1, label=rf"$\tau={sci(tau, 3)}$")
+            ax.plot(
+                jbar[-1], ds["f_thermal_analytic"].values, "r:", lw=1.2, label="thermal, same $u$"
+            )
+            jbar = jbar[0]
             ax.set_xlim(
                 0, jbar[np.flatnonzero(ds["f"].values[0] > 1e-4 * ds["f"].values[0].max())[-1]]
             )
