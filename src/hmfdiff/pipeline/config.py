@@ -344,7 +344,7 @@ def _check_md_sampling(ck):
 def _check_md_scaling(ck):
     """The 1/N studies: each case smooth (`md_scaling_runs`), at every size the checks of an
     MD run (dt with the `run` overrides, N, memory).  (A figure drawing a case that has no
-    study is refused by `_check_figure_inputs`.)"""
+    study is refused by `_check_figures`.)"""
     runs = ck.scaling_runs
     scaling_kappa0(ck.config)  # its shape, before any job
     for (case, dynamics, n), run in runs.items():
@@ -445,7 +445,7 @@ def _spectrum_memory_bytes(runs):
 
 
 def _check_spectrum(ck):
-    """Each spectrum case (one with MD runs: `_check_figure_inputs` runs first) samples its
+    """Each spectrum case (one with MD runs: `_check_figures` runs first) samples its
     magnetisation finely enough for its fastest orbits and for a Welch segment of max_lag, and
     its job fits in memory."""
     runs = ck.md_runs
