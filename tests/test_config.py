@@ -80,7 +80,11 @@ def test_bad_values_name_case_and_field(path, value, match):
             [10.0, 500.0],
             r"field 'fit_window' = \[10.0, 500.0\] must satisfy .*max_lag",
         ),
-        ("max_lag", 100.0, r"max_lag = 100.0 exceeds t_max = 60.0"),
+        (
+            "max_lag",
+            100.0,
+            r"field 'max_lag' = 100.0 exceeds t_max = 60.0: allowed \(0, t_max = 60.0\]",
+        ),
         ("sample_every", 0.25, r"'sample_every' = 0.25 must be a whole multiple of dt = 0.1"),
     ],
 )

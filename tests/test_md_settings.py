@@ -61,7 +61,11 @@ def test_md_runs_merge_defaults_with_each_case():
             [10.0, 500.0],
             r"field 'fit_window' = \[10.0, 500.0\] must satisfy .*max_lag",
         ),
-        ("max_lag", 100.0, r"max_lag = 100.0 exceeds t_max = 60.0"),
+        (
+            "max_lag",
+            100.0,
+            r"field 'max_lag' = 100.0 exceeds t_max = 60.0: allowed \(0, t_max = 60.0\]",
+        ),
         ("sample_every", 0.25, r"'sample_every' = 0.25 must be a whole multiple of dt = 0.1"),
         ("t_equilibrate", 0.15, r"'t_equilibrate' = 0.15 must be a whole multiple of dt = 0.1"),
         ("n_blocks", 8, r"'n_blocks' = 8 must be an integer in \[1, number of origins = 7\]"),

@@ -191,7 +191,10 @@ class MDRun:
         if self.bath not in BATHS:
             self._fail(f"field 'bath' = {self.bath!r} must be 'exact' or 'integrated'")
         if self.max_lag > self.t_max:
-            self._fail(f"max_lag = {self.max_lag} exceeds t_max = {self.t_max}")
+            self._fail(
+                f"field 'max_lag' = {self.max_lag} exceeds t_max = {self.t_max}: allowed "
+                f"(0, t_max = {self.t_max}] (every lag lies within the run)"
+            )
         for name, unit in _MULTIPLES:
             v, u = getattr(self, name), getattr(self, unit)
             if v > 0 and _whole_multiple(v, u) in (None, 0):

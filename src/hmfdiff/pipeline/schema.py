@@ -12,6 +12,7 @@ Physics-level checks across fields live in `hmfdiff.pipeline.config`.
 
 from __future__ import annotations
 
+import copy
 import difflib
 import math
 import re
@@ -337,14 +338,10 @@ def schema_defaults(node, schema, root):
     for s in _branches(schema, root, conditional=False):
         for k, sub in s.get("properties", {}).items():
             if isinstance(sub, dict) and "default" in sub and k not in node:
-                node[k] = _copy(sub["default"])
+                node[k] = copy.deepcopy(sub["default"])
     for k, v in node.items():
         for sub in _child(schema, root, k, conditional=False):
             schema_defaults(v, sub, root)
-
-
-def _copy(x):
-    return yaml.safe_load(yaml.safe_dump(x))
 
 
 def _consequence(err, root):
