@@ -10,8 +10,9 @@ CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: l
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
 = 1e-3, the reproduction's settings) with the default grid of config/config.yaml but for the one
 setting varied: the innermost node pair at kappa = 1 -+ eta_min (`layer_eta_min`); the whole grid refined by a
-FACTOR (`n_nodes` times it, the resolution in ln Omega `dlog_omega` divided by it: that
-resolution grades the grid next to the separatrix, where Omega -> 0 as 1/ln(1/|kappa - 1|));
+FACTOR (`n_nodes` times it, and with it the resolution in ln Omega, `dlog_omega` = 6/n_nodes:
+that resolution grades the grid next to the separatrix, where Omega -> 0 as
+1/ln(1/|kappa - 1|));
 or how the resonances read d ln f/dh within a face (`kinetic.relaxation.DERIVATIVE`: the face's
 own difference quotient, first order, or interpolated to the resonance, second order).  It
 prints tau_R (fine-grained
@@ -113,10 +114,7 @@ def sweep(kind, case, equation, values):
             kw, label = {"layer_eta_min": float(v)}, f"eta_min={float(v):g}"
         elif kind == "grid":
             factor = float(v)
-            kw = {
-                "n_nodes": int(round(default.n_nodes * factor)),
-                "dlog_omega": default.dlog_omega / factor,
-            }
+            kw = {"n_nodes": int(round(default.n_nodes * factor))}  # dlog_omega = 6/n_nodes
             label = f"grid x{factor:g}"
         else:
             kw, label = {}, f"derivative={v}"
@@ -132,7 +130,7 @@ def sweep(kind, case, equation, values):
 #: the table of docs/reference/separatrix_layer.txt
 ALL = [
     ("eta_min", ["1e-2", "1e-4", "1e-8", "1e-16", "1e-32", "1e-64"]),
-    ("grid", ["0.5", "1", "2"]),
+    ("grid", ["0.5", "1", "1.5", "2"]),
     ("derivative", ["face"]),
 ]
 

@@ -8,7 +8,13 @@ import pytest
 from hmfdiff.kinetic.collision import CollisionOperator, geometry, resonance_events
 from hmfdiff.kinetic.flux import fokker_planck_current, fokker_planck_jbar_current, hmflb_current
 from hmfdiff.kinetic.grid import action_grid, project_state
-from hmfdiff.kinetic.relaxation import Kinetics, RelaxationSettings, evolve, face_jbar
+from hmfdiff.kinetic.relaxation import (
+    Kinetics,
+    RelaxationSettings,
+    _LogDensity,
+    evolve,
+    face_jbar,
+)
 from hmfdiff.meanfield import separatrix
 from hmfdiff.meanfield.equilibrium import (
     ThermalState,
@@ -87,12 +93,20 @@ def test_discrete_current_converges_to_the_fokker_planck_current(current_300):
     the continuum current changes by orders of magnitude within the grid spacing: see the
     cell-integrated test below)."""
     c = current_300
-    G, ref, kf = c["G"], c["ref"], c["kf"]
-    sel = (np.abs(kf - 1) > 0.05) & (np.abs(ref) > 1e-3 * c["scale"])
-    err = np.abs(G[sel] / ref[sel] - 1)
+    G, ref, kf, dj = c["G"], c["ref"], c["kf"], c["op"].dj
+    # the scheme reads d ln f/dh at each resonance by interpolating between neighbouring faces,
+    # so that a face's current is a hat-weighted average over its neighbours': compared over
+    # windows of five faces (weights the face widths)
+    k = np.ones(5)
+    Gw = np.convolve(G * dj, k, "same") / np.convolve(dj, k, "same")
+    Rw = np.convolve(np.nan_to_num(ref) * dj, k, "same") / np.convolve(dj, k, "same")
+    sel = (np.abs(kf - 1) > 0.05) & (np.abs(Rw) > 1e-3 * c["scale"])
+    err = np.abs(Gw[sel] / Rw[sel] - 1)
     assert sel.sum() > 50
-    # measured: median 0.7 % (Landau), 0.4 % (Lenard-Balescu); 90th percentile 2.0 %, 1.2 %
-    assert np.median(err) < 0.02 and np.percentile(err, 90) < 0.06
+    # measured: median 0.51 % (Landau), 0.66 % (Lenard-Balescu); 90th percentile 2.3 %, 3.3 %
+    # (face by face, 2.2 % and 2.6 %; with each face's own difference quotient, the first-order
+    # scheme whose relaxation times converge slowly, 0.03 % over five faces)
+    assert np.median(err) < 0.015 and np.percentile(err, 90) < 0.06
 
 
 def _cell_integrals(hot, jbar, cells, collective, n_gauss, js=None, n_graded=48):
@@ -120,38 +134,51 @@ def _cell_integrals(hot, jbar, cells, collective, n_gauss, js=None, n_graded=48)
 
 def test_current_in_the_separatrix_band_cell_by_cell(hot, current_300):
     """The faces within |kappa - 1| < 0.05 (excluded above): the scheme's current times the
-    cell width, G-bar_a (J-bar_{a+1} - J-bar_a), is the integral of the current over the dual
-    cell, which is compared with the continuum current integrated over the same cell.  Pointwise
-    values cannot be compared there: the continuum current has narrow resonance spikes (partner
-    orbits on the steep core edge, with Omega -> 0 at the separatrix) a few per cent of a cell
-    wide, and next to kappa = 1 a comb of them that needs 48 geometric panels a side to
-    integrate (24 panels: 40 % off)."""
+    cell width, G-bar_a (J-bar_{a+1} - J-bar_a), summed over runs of five consecutive faces
+    (the scheme's current is a hat-weighted average over neighbouring faces), is the integral
+    of the current over those dual cells, which is compared with the continuum current
+    integrated over the same cells.  Pointwise values cannot be compared there: the continuum
+    current has narrow resonance spikes (partner orbits on the steep core edge, with
+    Omega -> 0 at the separatrix) a few per cent of a cell wide, and next to kappa = 1 a comb
+    of them that needs 48 geometric panels a side to integrate (24 panels: 40 % off)."""
     c = current_300
     G, scale, M0 = c["G"], c["scale"], c["M0"]
     jbar = c["grid"].jbar(M0)
     dj = c["op"].dj
     js = 4 * np.sqrt(M0) / np.pi
     sep = c["grid"].sep - 1
-    band = [a for a in np.flatnonzero(np.abs(c["kf"] - 1.0) < 0.05) if a != sep]
+    band = [a for a in np.flatnonzero(np.abs(c["kf"] - 1.0) < 0.05) if abs(a - sep) > 2]
     assert len(band) > 30
     # 8 Gauss points a cell (6 with the dielectric, whose resonance sum costs 10 times more)
     ref = _cell_integrals(hot, jbar, band, c["collective"], n_gauss=6 if c["collective"] else 8)
     got = G[band] * dj[band]
-    # relative error with a floor of 1 % of the far-field current scale (cells where the
-    # current crosses zero); measured max 4.7 % (Landau), 2.7 % (Lenard-Balescu), the spikes
-    # of 10-900 x the far-field scale at kappa = 0.988 and 1.011 included
-    err = np.abs(got - ref) / (np.abs(ref) + 0.01 * scale * dj[band])
+    runs = np.split(np.arange(len(band)), np.flatnonzero(np.diff(band) > 1) + 1)
+    groups = [r[i : i + 5] for r in runs for i in range(0, len(r) - 4, 5)]
+    assert len(groups) >= 6
+    g_got = np.array([got[g].sum() for g in groups])
+    g_ref = np.array([ref[g].sum() for g in groups])
+    g_dj = np.array([dj[np.asarray(band)[g]].sum() for g in groups])
+    # the hat weighting can carry across a run's ends at most the current of the faces just
+    # outside it (a spike next door moves part of itself in): that, and 1 % of the far-field
+    # scale (runs where the current crosses zero), is the floor of the relative error
+    ends = np.array([abs(G[band[g[0]] - 1] * dj[band[g[0]] - 1]) for g in groups]) + np.array(
+        [abs(G[band[g[-1]] + 1] * dj[band[g[-1]] + 1]) for g in groups]
+    )
+    err = np.abs(g_got - g_ref) / (np.abs(g_ref) + 0.01 * scale * g_dj + 0.5 * ends)
+    # measured max 1.5 % (Landau), the spikes of 10-900 x the far-field scale at kappa = 0.9995
+    # and 1.011 included; 0.5 and 0.35 without the runs' ends in the floor (beside the spikes)
     assert np.max(err) < 0.1, np.max(err)
-    # the cell holding the separatrix, where the current leaving the libration band splits
-    # between the two directions of rotation: measured ratio 1.20 at 300 nodes, 0.87-1.22 on
-    # 120-600 nodes (Landau): the scheme resolves the comb of resonances only on average (f is
-    # sampled linearly within the cell).  Landau only: with the dielectric the reference
+    # the five faces round the separatrix, where the current leaving the libration band splits
+    # between the two directions of rotation.  Landau only: with the dielectric the reference
     # integral is not converged at an affordable cost (48 panels x 4 points: ratio 1.23,
     # x 8 points: 1.08, 13 s)
     if c["collective"]:
         return
+    around = [sep - 2, sep - 1, sep + 1, sep + 2]
     ref_sep = _cell_integrals(hot, jbar, [sep], False, n_gauss=4, js=js)[0]
-    assert G[sep] * dj[sep] / ref_sep == pytest.approx(1.0, abs=0.3)
+    ref_sep += _cell_integrals(hot, jbar, around, False, n_gauss=8).sum()
+    got_sep = float(np.sum(G[sep - 2 : sep + 3] * dj[sep - 2 : sep + 3]))
+    assert got_sep / ref_sep == pytest.approx(1.0, abs=0.3)
 
 
 @pytest.mark.parametrize("equation", EQUATIONS)
@@ -159,18 +186,23 @@ def test_operator_conserves_mass_and_energy_and_produces_entropy(hot, equation):
     s = RelaxationSettings(equation=equation, n_nodes=80, kappa_max=3.5, dlog_omega=0.05)
     grid = _grid(hot, s)
     f, M0 = project_state(hot, grid)
-    y = np.log(f)
     op = Kinetics(grid, s).operator(f, M0)
-    rate = op.rate(y)
     h = M0 * grid.eps_hat  # the cell-average energies h - M0
+    # ln f as offsets from the innermost librating node (`relaxation._LogDensity`): next to the
+    # separatrix ln f of neighbouring cells differ below its own rounding
+    lnf = _LogDensity.of_state(grid, hot, M0, f)
+    y, level = lnf.d, lnf.level
+    rate = op.rate(y, level)
     assert abs(rate.sum()) < 1e-13 * np.abs(rate).sum()
     assert abs(np.dot(h, rate)) < 1e-13 * np.abs(h * rate).sum()
-    # dS/dtau = -sum ln f dm/dtau = sum W F X[ln f]^2 > 0
-    assert op.entropy_production(y) == pytest.approx(-np.dot(y, rate), rel=1e-10)
-    assert op.entropy_production(y) > 0
+    # dS/dtau = -sum ln f dm/dtau (sum rate = 0: the level drops out)
+    assert op.entropy_production(y, level) == pytest.approx(-np.dot(y, rate), rel=1e-10)
+    assert op.entropy_production(y, level) > 0
     # a thermal f = C exp(-beta h) (same mass) on the same orbits is a fixed point
-    y_th = -2.7 * h - np.log(np.sum(grid.volume(M0) * np.exp(-2.7 * h)))
-    assert np.max(np.abs(op.rate(y_th))) < 1e-12 * np.max(np.abs(rate))
+    g = lnf.gauge
+    y_th = -2.7 * (h - h[g])
+    level_th = -np.log(np.sum(grid.volume(M0) * np.exp(y_th)))
+    assert np.max(np.abs(op.rate(y_th, level_th))) < 1e-12 * np.max(np.abs(rate))
 
 
 # -------------------------------------------------------------------------- evolutions
@@ -196,7 +228,7 @@ def test_thermal_state_stays_put(equation):
 @pytest.fixture(scope="module", params=EQUATIONS)
 def hot_run(request, hot):
     """The hot-halo state evolved on a small grid until M0 has moved (Landau is faster)."""
-    tau_max = 4.0 if request.param == "landau" else 30.0
+    tau_max = 60.0 if request.param == "landau" else 300.0
     s = RelaxationSettings(
         equation=request.param, n_nodes=120, kappa_max=3.5, tau_max=tau_max, thermal_tol=0.0
     )
@@ -236,10 +268,12 @@ def test_current_at_a_later_time_is_that_of_the_state_at_that_time(hot_run):
     assert abs(M0 - out["M0"][0]) > 1e-3
     assert np.max(np.abs(f - out["f"][0])) > 0.2 * np.max(out["f"][0])
     op = Kinetics(grid, s).operator(f, M0)  # a fresh dielectric, computed from this f
-    fresh = op.face_flux(np.log(f)) / (4 * np.pi)
+    d, level = out["ln_f_offsets"], out["ln_f_level"]  # ln f = level + d, d exact next to kappa = 1
+    np.testing.assert_allclose(np.exp(level + d), f, rtol=1e-14)
+    fresh = op.face_flux(d, level) / (4 * np.pi)
     err = np.max(np.abs(out["flux"][-1] - fresh)) / np.max(np.abs(fresh))
     assert err < 0.05, err
-    assert out["Sdot"][-1] == pytest.approx(op.entropy_production(np.log(f)), rel=0.05)
+    assert out["Sdot"][-1] == pytest.approx(op.entropy_production(d, level), rel=0.05)
 
 
 def test_non_thermal_state_ends_at_the_thermal_state_of_its_energy(hot):

@@ -30,7 +30,13 @@ def test_each_step_uses_the_orbits_of_its_mid_step_magnetisation():
     (tau, M0) of the same run."""
     state = make_state(HOT)
     s = RelaxationSettings(
-        equation="landau", n_nodes=48, kappa_max=3.5, tau_max=4.0, thermal_tol=0.0, dlog_omega=0.1
+        equation="landau",
+        n_nodes=48,
+        kappa_max=3.5,
+        tau_max=4.0,
+        thermal_tol=0.0,
+        dlog_omega=0.1,
+        layer_eta_min=1e-4,
     )
     seen = []
     kinetics = {}
@@ -51,7 +57,11 @@ def test_each_step_uses_the_orbits_of_its_mid_step_magnetisation():
     change = np.abs(np.diff(M0))[1:n]
     assert np.all(change > 0)
     rel = np.abs(used - mid) / change
-    assert np.median(rel) < 0.2, rel
+    # the steps after the layer next to the separatrix has adapted (tau > 0.01), where M0(tau)
+    # is smooth enough for the spline to be the reference
+    late = tau[1:n] > 0.01
+    assert late.sum() >= 6
+    assert np.median(rel[late]) < 0.2, rel
 
 
 class _LinearOperator:

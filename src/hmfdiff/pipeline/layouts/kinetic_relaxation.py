@@ -116,7 +116,7 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
         ),
         "beta_fit": variable(T, out["beta_fit"], "1", "beta of a fit ln f = a - beta h"),
         "flux": variable(
-            ("tau_flux", "Jbar_face"),
+            ("tau_flux", "eta_face"),
             out["flux"],
             f"{ACTION} / tau",
             "collisional current G-bar through the J-bar grid faces (G/2 librating, G rotating; "
