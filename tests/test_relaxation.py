@@ -82,9 +82,7 @@ def current_300(request, hot):
     ref = fokker_planck_jbar_current(hot, jf, collective=collective)
     kf = 1.0 + separatrix.eta_from_jbar_offset(0.5 * (grid.xhat[1:] + grid.xhat[:-1]), 1.0)
     scale = np.nanmax(np.abs(ref[np.abs(kf - 1) > 0.05]))
-    return dict(
-        grid=grid, M0=M0, op=op, kf=kf, G=G, ref=ref, scale=scale, collective=collective
-    )
+    return dict(grid=grid, M0=M0, op=op, kf=kf, G=G, ref=ref, scale=scale, collective=collective)
 
 
 def test_discrete_current_converges_to_the_fokker_planck_current(current_300):

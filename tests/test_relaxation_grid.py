@@ -113,7 +113,10 @@ def test_cell_averages_against_quadrature(grid, where):
 def test_the_layer_cells_average_next_to_the_separatrix(grid):
     """The two cells that end on the separatrix: their average of h - M against the leading
     asymptotic of the integral (h - M = 4 M eta, dJ-bar/deta = (4/pi) ln(4/sqrt(2|eta|)))."""
-    for i, e in ((grid.sep - 1, grid.eta_edges[grid.sep - 1]), (grid.sep, grid.eta_edges[grid.sep + 1])):
+    for i, e in (
+        (grid.sep - 1, grid.eta_edges[grid.sep - 1]),
+        (grid.sep, grid.eta_edges[grid.sep + 1]),
+    ):
         u = np.linspace(np.log(abs(e)) - 60, np.log(abs(e)), 200001)
         v = np.exp(u)
         jac = (4 / np.pi) * (np.log(4 / np.sqrt(2 * v)) + 0.5 * np.sign(e) * 0) * v
@@ -143,7 +146,9 @@ def test_frames_and_remap(hot, grid):
     moved = remap(grid, lin, M0, M0 * 1.001)
     jb_new = grid.jbar(M0 * 1.001)
     inner = slice(5, -5)
-    np.testing.assert_allclose(moved[inner], (1.0 + 0.3 * jb_new)[inner] * (moved[inner] / moved[inner]), rtol=2e-3)
+    np.testing.assert_allclose(
+        moved[inner], (1.0 + 0.3 * jb_new)[inner] * (moved[inner] / moved[inner]), rtol=2e-3
+    )
 
 
 def test_M0_of_a_state_and_its_map(hot, grid):

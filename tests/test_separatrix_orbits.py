@@ -45,7 +45,9 @@ def _K_quad(m):
     """K(m) = int_0^{pi/2} dphi / sqrt(cos^2 phi + (1 - m) sin^2 phi), the peak at pi/2 (width
     sqrt(1 - m)) resolved by points approaching it geometrically."""
     p = 1 - m
-    pts = [mp.mpf(0)] + [mp.pi / 2 - mp.mpf(10) ** (-k) for k in range(0, int(-mp.log10(p) / 2) + 8)]
+    pts = [mp.mpf(0)] + [
+        mp.pi / 2 - mp.mpf(10) ** (-k) for k in range(0, int(-mp.log10(p) / 2) + 8)
+    ]
     pts.append(mp.pi / 2)
     return mp.quad(lambda t: 1 / mp.sqrt(mp.cos(t) ** 2 + p * mp.sin(t) ** 2), pts)
 

@@ -101,7 +101,9 @@ def geometry(grid):
     if not (np.all(dj > 0) and np.all(nu > 0)):
         raise FloatingPointError("the grid's spacings and discrete frequencies must be positive")
     sep_face = int(np.flatnonzero((eta[:-1] < 0.0) & (eta[1:] > 0.0))[0])
-    return Geometry(eta, np.asarray(grid.xhat, float), np.asarray(grid.eps_hat, float), dj, s, nu, sep_face)
+    return Geometry(
+        eta, np.asarray(grid.xhat, float), np.asarray(grid.eps_hat, float), dj, s, nu, sep_face
+    )
 
 
 @dataclass(frozen=True)

@@ -294,7 +294,9 @@ def _cell_average(edges, g, order=8):
         if a == 0.0 or b == 0.0:
             e = b if a == 0.0 else a
             u_edges = np.linspace(np.log(abs(e)) - 60.0, np.log(abs(e)), 21)
-            u = (0.5 * (u_edges[:-1, None] + u_edges[1:, None]) + 0.5 * np.diff(u_edges)[:, None] * x).ravel()
+            u = (
+                0.5 * (u_edges[:-1, None] + u_edges[1:, None]) + 0.5 * np.diff(u_edges)[:, None] * x
+            ).ravel()
             wu = (0.5 * np.diff(u_edges)[:, None] * w).ravel()
             eta = np.sign(e) * np.exp(u)
             jac = wu * np.abs(eta) * separatrix.djbar_deta(eta, 1.0)

@@ -301,9 +301,7 @@ class _Dielectric:
         # needs it: with the grid's M0, which differs by the quadrature error, 1/|eps_ss|^2
         # at low frequency would be wrong by orders of magnitude)
         keep = dielectric_nodes(grid)
-        tab = TabulatedState(
-            grid.jbar(M)[keep], np.maximum(f[keep], np.exp(LOG_FLOOR)), M0_guess=M
-        )
+        tab = TabulatedState(grid.jbar(M)[keep], np.maximum(f[keep], np.exp(LOG_FLOOR)), M0_guess=M)
         tensor = DielectricTensor(tab, l_max=s.l_max, n_panels=s.eps_panels, order=s.eps_order)
         self.eps = _interpolated_dielectric(tensor, geom, M, s.n_max, s.l_max)
         self.f_ref = f.copy()
@@ -321,9 +319,7 @@ class Kinetics:
         self.geom = geometry(grid)
         self.events = resonance_events(self.geom, settings.n_max, derivative=DERIVATIVE)
         self.dielectric = _Dielectric(settings)
-        self.assembly = jacobian_assembly(
-            (self.events.C @ self.geom.D).tocsr(), self.events.P
-        )
+        self.assembly = jacobian_assembly((self.events.C @ self.geom.D).tocsr(), self.events.P)
 
     def operator(self, f, M):
         eps = None
@@ -375,29 +371,17 @@ def initial_rate(grid, op, d, M0, level=0.0, h=1e-6):
     return num / (1.0 - dF)
 
 
-#: the layer next to the separatrix relaxes within FAST x the step (its cells are tiny and their
-#: couplings strong) before a current is stored: `_settled`
+#: a step that would end on a time whose current is stored ends FAST x its length before it,
+#: and a step of that length follows: the layer next to the separatrix, whose cells relax on
+#: times down to ~1e-10 and which each frame remap disturbs, has settled into the balance of
+#: the current through it when the current is stored (the state's other modes move by FAST x
+#: the step, as in any step, with tau advanced)
 FAST = 1e-3
 
 
-def _settled(op, vol, lnf, M, dt_fast):
-    """The state with its fast modes relaxed: one backward-Euler step of dt_fast (a fraction
-    FAST of the time step), which settles the layer next to the separatrix into the balance of
-    the current through it (each frame remap carries the layer's cells across J-bar distances
-    far larger than their widths, leaving currents there that are not the current through the
-    layer) and moves everything else by dt_fast x its rate, below the step's tolerance."""
-    level, d, ok = _backward_euler_offsets(
-        op, vol, lnf.level, lnf.d, dt_fast, lnf.gauge, lnf.scales(M)
-    )
-    return _LogDensity(lnf.grid, level, d) if ok else lnf
-
-
-#: nodes closer to the separatrix than this reduced offset are always carried as offsets of
-#: ln f when f is remapped (their ln f differ below its rounding)
+#: nodes closer to the separatrix than this reduced offset keep their offsets of ln f when f
+#: is remapped (their ln f differ below its rounding; `_LogDensity.remapped`)
 DEEP_OFFSET = 1e-8
-#: a frame remap keeps the offsets of the layer next to the separatrix narrower than this
-#: multiple of the frame's shift (`_LogDensity.remapped`)
-KEEP_LAYER = 10.0
 
 
 class _LogDensity:
@@ -443,22 +427,21 @@ class _LogDensity:
 
     def remapped(self, M_from, M_to):
         """The state carried to the frame M_to: f(J-bar) fixed (`grid.remap`, conservative),
-        except in the layer next to the separatrix narrower than KEEP_LAYER x the frame's
-        shift, whose offsets are kept: the layer moves with the separatrix.  Its cells are
-        narrower than the shift, so that a remap at fixed J-bar would fill them all with the
-        f found a shift away and unsettle the balance of the current through them, which
-        the layer restores at once (its cells relax on times down to 1e-10); moved whole, it
-        stays settled.  The total mass is kept by a common factor."""
+        except the deep nodes (|x^| < DEEP_OFFSET), whose offsets are kept: a remap at fixed
+        J-bar would fill cells narrower than the frame's shift with the f found a shift away,
+        unsettling the balance of the current through them.  The total mass is kept by a
+        common factor."""
         grid = self.grid
         if M_from == M_to:
             return _LogDensity(grid, self.level, self.d.copy())
         f = self.f
-        rho_m1 = (M_from - M_to) / (np.sqrt(M_to) * (np.sqrt(M_from) + np.sqrt(M_to)))
-        keep = np.abs(grid.xhat) < max(KEEP_LAYER * abs(rho_m1) * JS_HAT, DEEP_OFFSET)
+        keep = np.abs(grid.xhat) < DEEP_OFFSET
         f_new = _floor(remap(grid, f, M_from, M_to))
         f_new[keep] = f[keep]
-        factor = np.sum(grid.width_hat * f) * np.sqrt(M_from) / (
-            np.sum(grid.width_hat * f_new) * np.sqrt(M_to)
+        factor = (
+            np.sum(grid.width_hat * f)
+            * np.sqrt(M_from)
+            / (np.sum(grid.width_hat * f_new) * np.sqrt(M_to))
         )
         level = self.level + np.log(factor)  # the gauge node lies in the kept layer
         d = np.log(f_new * factor) - level
@@ -531,20 +514,13 @@ def evolve(state, settings, progress=None, operator=None):
             return operator(grid, f, M)
         return kin.operator(f, M)
 
-    def settled(lnf, M0, dt):
-        """The state with the layer next to the separatrix settled (`_settled`), carried to
-        its own self-consistent M0 (which the settling moves by ~1e-8), and the operator
-        there: at each time whose current is stored."""
-        lnf = _settled(make_operator(lnf.f, M0), grid.volume(M0), lnf, M0, FAST * dt)
-        M_new = solve_grid_M0(grid, lnf.f, M0, guess=M0)
-        lnf = lnf.remapped(M0, M_new)
-        return lnf, M_new, make_operator(lnf.f, M_new)
-
-    def record_flux(tau, lnf, M0, op):
+    def record_flux(tau, lnf, M0):
+        op = make_operator(lnf.f, M0)
         tau_flux.append(tau)
         flux.append(_call(op, "face_flux", lnf.d, lnf.level) / PHASE_VOLUME_PER_JBAR)
         sdot.append(_call(op, "entropy_production", lnf.d, lnf.level))
         M_flux.append(M0)
+        return op
 
     def step_to(op, vol, start, dt, scales):
         level, d, ok = _backward_euler_offsets(
@@ -553,26 +529,35 @@ def evolve(state, settings, progress=None, operator=None):
         return _LogDensity(grid, level, d), ok
 
     tau = 0.0
-    op = make_operator(lnf.f, M0)
-    vol = grid.volume(M0)
-    rate0 = np.max(np.abs(_call(op, "rate", lnf.d, lnf.level)) / vol)
-    dt = s.dtau_first or (s.rtol * np.max(f) / rate0 if rate0 > 0 else s.tau_max)
-    # the initial state's layer next to the separatrix settles at once (its cells hold no
-    # mass): the state of tau = 0 is the initial one with that layer settled
-    lnf = _settled(op, vol, lnf, M0, FAST * dt)
     dist = record(tau, lnf, M0)
-    record_flux(tau, lnf, M0, op)
+    op = record_flux(tau, lnf, M0)
     dM0dtau_initial = initial_rate(grid, op, lnf.d, M0, lnf.level)
     mid, M_mid = lnf, M0
+    vol = grid.volume(M0)
     scales = lnf.scales(M0)
+    rate0 = np.max(np.abs(_call(op, "rate", lnf.d, lnf.level)) / vol)
+    dt = s.dtau_first or (s.rtol * np.max(f) / rate0 if rate0 > 0 else s.tau_max)
     dM0dt = 0.0
     fresh = False  # the operator of tau = 0 serves the first step (dM0/dtau unknown: 0)
     n_rejected = n_steps = 0
+    settling = False
+
+    def stored_at(t):
+        return any(abs(t - x) <= 1e-9 * max(x, 1.0) for x in flux_times)
+
     while tau < s.tau_max * (1 - 1e-12) and dist >= s.thermal_tol and n_steps < s.max_steps:
         dt = min(dt, s.tau_max - tau)
         upcoming = [t for t in stops if t > tau * (1 + 1e-12)]
         if upcoming:
             dt = min(dt, upcoming[0] - tau)
+        ends = tau + dt
+        # a step onto a stored time: first all of it but FAST, then the rest (FAST)
+        onto = stored_at(ends) or ends >= s.tau_max * (1 - 1e-12)
+        if onto and not settling and dt > 1e-12 * max(ends, 1.0):
+            dt *= 1.0 - FAST
+            settling = True
+        else:
+            settling = False
         if fresh:  # a new step: f in the frame of the predicted mid-step M0 (kept if rejected)
             M_mid = M0 + 0.5 * dM0dt * dt
             mid = lnf.remapped(M0, M_mid)
@@ -599,19 +584,13 @@ def evolve(state, settings, progress=None, operator=None):
         lnf = two.remapped(M_mid, M0_new)
         dM0dt = (M0_new - M0) / dt
         M0 = M0_new
-        stored = tau >= s.tau_max * (1 - 1e-12) or any(
-            abs(tau - t) <= 1e-9 * max(t, 1.0) for t in flux_times
-        )
-        if stored:
-            lnf, M0, op_here = settled(lnf, M0, dt)
         dist = record(tau, lnf, M0)
         fresh = True
-        if stored:
-            record_flux(tau, lnf, M0, op_here)
+        if stored_at(tau):
+            record_flux(tau, lnf, M0)
         dt *= min(4.0, 0.9 / np.sqrt(max(err, 1e-12)))
-    if tau_flux[-1] != tau:  # an end before tau_max (thermalised): its f stored unsettled
-        # (the settled one differs only in the layer's cells, by their fast transient)
-        record_flux(tau, lnf, M0, make_operator(lnf.f, M0))
+    if tau_flux[-1] != tau:
+        record_flux(tau, lnf, M0)
     out = {k: np.asarray(v) for k, v in hist.__dict__.items()}
     M_hist = out["M0"]
     out.update(

@@ -129,6 +129,7 @@ def jbar_offset(eta, M0):
     c = 4.0 * np.sqrt(M0) / np.pi
     return _shaped(np.where(lib, -c * (p * K - em1), c * (eta * (1.0 + em1) + em1)), eta0)
 
+
 def djbar_deta(eta, M0):
     """dJ-bar/dkappa: (4 sqrt(M0)/pi) kappa K (librating), (4 sqrt(M0)/pi) K(1/kappa) (rotating),
     eq. (hmfjacob) with J-bar = J/2 below the separatrix."""
@@ -136,6 +137,7 @@ def djbar_deta(eta, M0):
     eta, m, p, lib, K, em1 = _parts(eta)
     c = 4.0 * np.sqrt(M0) / np.pi
     return _shaped(np.where(lib, c * (1.0 + eta) * K, c * K), eta0)
+
 
 def eta_from_jbar_offset(x, M0, guess=None, iterations=64):
     """The orbit eta with J-bar - J-bar_s = x (x != 0, x > -J-bar_s).
@@ -223,6 +225,7 @@ def frequency(eta, M0):
     s = np.sqrt(M0)
     return _shaped(np.where(lib, np.pi * s / (2.0 * K), np.pi * s * (1.0 + eta) / K), eta0)
 
+
 def dOmega_deta(eta, M0):
     """dOmega/dkappa, eq. (domdk), from p: librating -pi sqrt(M0) kappa (K - R_D(0, p, 1)/3) /
     (2 p K^2), rotating pi sqrt(M0) kappa^2 E / ((kappa^2 - 1) K^2)."""
@@ -235,12 +238,14 @@ def dOmega_deta(eta, M0):
     rot_part = np.pi * s * kappa**2 * (1.0 + em1) / (eta * (2.0 + eta) * K**2)
     return _shaped(np.where(lib, lib_part, rot_part), eta0)
 
+
 def cos_average_plus_one(eta):
     """<cos theta> + 1 on the orbit (c_0 + 1): 2 E/K librating, 2 kappa^2 (E/K - p) rotating."""
     eta0 = eta
     eta, m, p, lib, K, em1 = _parts(eta)
     E = 1.0 + em1
     return _shaped(np.where(lib, 2.0 * E / K, 2.0 * (1.0 + eta) ** 2 * (E / K - p)), eta0)
+
 
 def cos_primitive(eta, M0):
     """P = int_{J-bar_s}^{J-bar} <cos theta> dJ-bar' (module docstring), signed like the offset."""
@@ -250,7 +255,10 @@ def cos_primitive(eta, M0):
     g = em1 + p * (1.0 + em1) - 2.0 * p * K
     lib_part = p * K - 2.0 * p * (1.0 + em1) + em1
     rot_part = c3 + g + c3 * g
-    return _shaped(16.0 * np.sqrt(M0) / 3.0 * np.where(lib, lib_part, rot_part) / (4.0 * np.pi), eta0)
+    return _shaped(
+        16.0 * np.sqrt(M0) / 3.0 * np.where(lib, lib_part, rot_part) / (4.0 * np.pi), eta0
+    )
+
 
 def fourier_parts(eta):
     """(kappa, m, p, librating, K, E) of the orbits eta, the arguments of the Fourier
