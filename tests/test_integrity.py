@@ -363,6 +363,7 @@ PHYSICAL_RANGES = {
         **dict.fromkeys(["tau_relax_fine", "tau", "tau_flux", "Jbar", "Jbar_face"], NONNEG),
         **dict.fromkeys(["M0", "M0_thermal", "M0_thermal_grid"], (0, 1)),
         "u": (-0.5, None),
+        **dict.fromkeys(["eta", "eta_face"], (-1, None)),  # kappa - 1, kappa >= 0
     },
 }
 #: variables with no physical bound of their own: a writer that bounds them would refuse
@@ -372,7 +373,7 @@ UNBOUNDED = {
     "sum_dJ", "sum_dJ_block", "momentum", "sample_p", "ND_md", "ND_md_seed", "intercept",
     "ND_windowed", "flux", "flux_fokker_planck_tau0", "S", "beta_fit", "entropy",
     "entropy_realisation", "energy_drift", "eps_cc_real", "eps_cc_imag", "eps_ss_real",
-    "eps_ss_imag",
+    "eps_ss_imag", "Jbar_offset", "dM0dtau_initial", "dM0dtau_early", "tau_relax_initial_rate",
 }  # fmt: skip
 
 

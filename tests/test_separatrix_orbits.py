@@ -1,8 +1,9 @@
 """Orbit functions of the signed distance to the separatrix (`meanfield.separatrix`) against
 arbitrary-precision quadrature (mpmath) at |eta| = 1e-3, 1e-8, 1e-16, 1e-30, 1e-100 on both
 sides: the offset J-bar - J-bar_s (the action integral (1/2 pi) oint p dtheta, subtracted in
-high precision), the frequency pi sqrt(M0)/(2 K) or pi sqrt(M0) kappa/K with K by quadrature,
-dOmega/dkappa by differentiating that quadrature, <cos theta> + 1 (the orbit average of
+high precision), the frequency pi sqrt(M0)/(2 K) or pi sqrt(M0) kappa/K with K by quadrature (`_K_quad`, checked
+against the AGM),
+dOmega/dkappa by differentiating mpmath's K (AGM) at the working precision, <cos theta> + 1 (the orbit average of
 cos(theta) over time), the Fourier coefficients c_n and sigma_n (integrals over the angle of
 cos(theta(w)) and sin(theta(w)) with the Jacobi functions), and the primitive of <cos theta>
 (the phase-space integral of cos(theta) over the region the orbit encloses), hence the cell
@@ -102,10 +103,12 @@ def test_offset_frequency_and_its_derivative(eta):
 
         def omega(e):
             k, mm, _, lb = _orbit(e)
-            K = _K_quad(mm)
+            K = mp.ellipk(mm)  # arbitrary precision by the AGM (scipy's ellipkm1: a series)
             return mp.pi * s / (2 * K) if lb else mp.pi * s * k / K
 
         om = omega(mp.mpf(eta))
+        K = _K_quad(m)
+        assert abs(K / mp.ellipk(m) - 1) < mp.mpf(10) ** -30  # the two K agree
         h = mp.mpf(abs(eta)) * mp.mpf(10) ** -12
         dom = (omega(mp.mpf(eta) + h) - omega(mp.mpf(eta) - h)) / (2 * h)
     assert separatrix.jbar_offset(eta, M0) == pytest.approx(float(x), rel=1e-14)
@@ -119,7 +122,14 @@ def test_orbit_average_of_cos_theta_and_fourier_coefficients(eta):
     """<cos theta> + 1 = (1/U) int (1 + cos theta) du over a half period, and c_n, sigma_n as
     (1/U) int cos theta cos(n pi u / U) du, (1/U) int sin theta sin(n pi u / U) du."""
     with mp.workdps(_prec(eta)):
-        cs, U, K = _cos_theta(eta)
+        cs_raw, U, K = _cos_theta(eta)
+        memo = {}
+
+        def cs(u):  # the seven integrals share tanh-sinh's nodes: each Jacobi pair once
+            if u not in memo:
+                memo[u] = cs_raw(u)
+            return memo[u]
+
         pts = _transitions(U)
         avg1 = mp.quad(lambda u: 1 + cs(u)[0], pts) / U
         ns = (1, 2, 3)

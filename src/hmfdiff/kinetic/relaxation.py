@@ -515,6 +515,8 @@ def evolve(state, settings, progress=None, operator=None):
         return kin.operator(f, M)
 
     def record_flux(tau, lnf, M0):
+        if kin is not None:  # the stored current with the dielectric tensor of this f (the
+            kin.dielectric.f_ref = None  # steps reuse one until f has moved by eps_refresh)
         op = make_operator(lnf.f, M0)
         tau_flux.append(tau)
         flux.append(_call(op, "face_flux", lnf.d, lnf.level) / PHASE_VOLUME_PER_JBAR)

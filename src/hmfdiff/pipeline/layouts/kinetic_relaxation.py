@@ -212,12 +212,14 @@ def kinetic_relaxation_dataset(out, *, case, equation, state, thermal, stability
             "1",
             "kappa - 1 of each grid node: its signed distance to the separatrix (< 0 "
             "librating, > 0 rotating); the cells are fixed in eta",
+            valid=(-1, None),  # kappa >= 0
         ),
         "eta_face": variable(
             F,
             grid.eta_edges[1:-1],
             "1",
             "kappa - 1 at the faces between nodes (0: the separatrix)",
+            valid=(-1, None),
         ),
     }
     ds = xr.Dataset(data, coords=coords)
