@@ -9,10 +9,10 @@ next to the separatrix.
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
 = 1e-3, the reproduction's settings) with the default grid of config/config.yaml but for the one
-setting varied: the innermost node pair at kappa = 1 -+ eta_min (`layer_eta_min`); the whole grid refined by a
-FACTOR (`n_nodes` times it, and with it the resolution in ln Omega, `dlog_omega` = 6/n_nodes:
-that resolution grades the grid next to the separatrix, where Omega -> 0 as
-1/ln(1/|kappa - 1|));
+setting varied: the innermost node pair at kappa = 1 -+ eta_min (`layer_eta_min`); the whole
+grid refined by a FACTOR (`n_nodes` times it, and with it the resolution in ln Omega,
+`dlog_omega` = 6/n_nodes: that resolution grades the grid next to the separatrix, where
+Omega -> 0 as 1/ln(1/|kappa - 1|));
 or how the resonances read d ln f/dh within a face (`kinetic.relaxation.DERIVATIVE`: the face's
 own difference quotient, first order, or interpolated to the resonance, second order).  It
 prints tau_R (fine-grained

@@ -28,8 +28,9 @@ and the primitive of <cos theta> in J-bar from the separatrix, P = int_{J-bar_s}
 <cos theta> dJ-bar', from the phase-space integral of cos(theta) over the region the orbit
 encloses (area 4 pi J-bar):
 
-    4 pi P = (16 sqrt(M0)/3) (p K - 2 p E + (E - 1))                              librating
-           = (16 sqrt(M0)/3) (c3 + g + c3 g),  c3 = kappa^3 - 1, g = (1 + p) E - 1 - 2 p K   rotating
+    4 pi P = (16 sqrt(M0)/3) (p K - 2 p E + (E - 1))                      librating
+           = (16 sqrt(M0)/3) (c3 + g + c3 g)                               rotating
+    with c3 = kappa^3 - 1, g = (1 + p) E - 1 - 2 p K
 
 so that a cell's integral of <cos theta> is a difference of P (no cancellation between its
 terms: each is O(p ln p) next to the separatrix).
