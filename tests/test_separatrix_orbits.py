@@ -3,10 +3,10 @@ arbitrary-precision quadrature (mpmath) at |eta| = 1e-3, 1e-8, 1e-16, 1e-30, 1e-
 sides: the offset J-bar - J-bar_s (the action integral (1/2 pi) oint p dtheta, subtracted in
 high precision), the frequency pi sqrt(M0)/(2 K) or pi sqrt(M0) kappa/K with K by quadrature
 (`_K_quad`, checked against the AGM), dOmega/dkappa by differentiating mpmath's K (AGM) at the
-working precision, <cos theta> + 1 (the orbit average of cos(theta) over time), the Fourier coefficients c_n and sigma_n (integrals over the angle of
-cos(theta(w)) and sin(theta(w)) with the Jacobi functions), and the primitive of <cos theta>
-(the phase-space integral of cos(theta) over the region the orbit encloses), hence the cell
-integrals of <cos theta>.
+working precision, <cos theta> + 1 (the orbit average of cos(theta) over time), the Fourier
+coefficients c_n and sigma_n (integrals over the angle of cos(theta(w)) and sin(theta(w)) with
+the Jacobi functions), and the primitive of <cos theta> (the phase-space integral of cos(theta)
+over the region the orbit encloses), hence the cell integrals of <cos theta>.
 
 Bugs guarded against: J-bar - J-bar_s taken as a difference of J-bars (zero or noise below
 |eta| ~ 1e-16), the complementary parameter formed as 1 - kappa^2, E - 1 from `ellipe` (0 next
