@@ -164,7 +164,11 @@ def _run_until_killed(cmd, cwd, hold, event, what):
     read the console until event(text) holds, SIGKILL the whole group and wait until every
     process of the run is gone.  Returns the console text."""
     token = f"hmfdiff-kill-test-{uuid.uuid4().hex}"
-    env = dict(os.environ, HMFDIFF_TEST_HOLD=hold, HMFDIFF_KILL_TEST_TOKEN=token)
+    # every job's log line on the console (by default the console carries only the jobs' end
+    # lines and warnings): the events below are read from there
+    env = dict(
+        os.environ, HMFDIFF_TEST_HOLD=hold, HMFDIFF_KILL_TEST_TOKEN=token, HMFDIFF_LOG_CONSOLE="all"
+    )
     deadline = time.monotonic() + EVENT_TIMEOUT  # a safety net, not a timing assumption
     proc = subprocess.Popen(
         cmd,
