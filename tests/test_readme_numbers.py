@@ -217,6 +217,35 @@ WARM = "relaxation_rates_corehalo_warmcore_summary.txt"
 COMP = "relaxation_comparison_summary.txt"
 LARGE = "experiments/hothalo_large_n/relaxation_comparison_summary.txt"
 SEEDS02 = "independent_seeds_u-0.2_full.txt"
+SEP = "separatrix_layer.txt"
+#: the lines of separatrix_layer.txt: grid x0.5, x1, x1.5 (x2 for ch2* Landau)
+SEP_HOT_L = [
+    "hot landau grid x0.5 641 65.24 68.392 -3.49998e-02 9.40199e-05",
+    "hot landau grid x1 1254 67.01 71.838 -3.50954e-02 1.14222e-04",
+    "hot landau grid x1.5 1868 67.34 72.191 -3.51488e-02 1.29642e-04",
+]
+SEP_HOT_LB = [
+    "hot lenard_balescu grid x0.5 641 156.15 165.799 8.04914e-04 9.16441e-04",
+    "hot lenard_balescu grid x1 1254 159.60 171.795 8.05536e-04 8.91958e-04",
+    "hot lenard_balescu grid x1.5 1868 159.76 172.122 8.05666e-04 9.00247e-04",
+]
+SEP_CH2_L = [
+    "ch2 landau grid x0.5 623 1770.67",
+    "ch2 landau grid x1 1218 1948.88",
+    "ch2 landau grid x1.5 1814 1989.58",
+    "ch2 landau grid x2 2410 2009.17",
+]
+SEP_CH2_LB = [
+    "ch2 lenard_balescu grid x0.5 623 2717.97",
+    "ch2 lenard_balescu grid x1 1218 2820.68",
+    "ch2 lenard_balescu grid x1.5 1814 2837.17",
+]
+SEP_ETA = [
+    "ch2 landau eta_min=0.01 813 309.65",
+    "ch2 landau eta_min=0.0001 946 1630.63",
+    "ch2 landau eta_min=1e-08 1074 1946.10",
+    "ch2 landau eta_min=1e-16 1218 1948.87",
+]
 SEEDS00 = "independent_seeds_u0.0_full.txt"
 PROP = "vs propagated Lenard-Balescu"
 
@@ -254,10 +283,21 @@ CLAIMS = [
             "t_R/N = 41.63",
             "N = 1000",
             "N = 4000",
-            "landau: tau_R^coarse = 38.91",
-            "lenard_balescu: tau_R^coarse = 126.7",
         ],
-        "relaxation time t_R/N 36.8-41.6 at N = 1e3-4e3 (Landau 38.9, Lenard-Balescu 126.7)",
+        "relaxation time t_R/N 36.8-41.6 at N = 1e3-4e3,",
+    ),
+    C(
+        R,
+        SEP,
+        [SEP_HOT_L[1], SEP_HOT_LB[1]],
+        "against the kinetic 71.8 (Landau) and 171.8 (Lenard-Balescu)",
+    ),
+    C(
+        R,
+        SEP,
+        [*SEP_HOT_L[1:], *SEP_HOT_LB[1:], *SEP_CH2_L[1:3]],
+        "hot halo: within 0.5 % from the default grid to 1.5 times its nodes; ch2*: 2.1 % (Landau)",
+        {"0.5": "(72.191 - 71.838) / 71.838 * 100", "2.1": "(1989.58 - 1948.88) / 1948.88 * 100"},
     ),
     C(
         R,
@@ -658,14 +698,42 @@ CLAIMS = [
     C(
         F,
         COMP,
-        [
-            "landau: tau_R^coarse = 38.91",
-            "t_R/(tau_R^coarse N) = 0.290 (lenard_balescu)",
-            "t_R/(tau_R^coarse N) = 0.320 (lenard_balescu)",
-            "t_R/(tau_R^coarse N) = 0.328 (lenard_balescu)",
-            "lenard_balescu: tau_R^coarse = 126.7",
-        ],
-        "Landau's coarse-grained tau_R = 38.91 and 0.290, 0.320, 0.328 of Lenard-Balescu's 126.7",
+        ["landau: tau_R^coarse = 38.91", "lenard_balescu: tau_R^coarse = 126.7"],
+        "before the layer was resolved, 38.91 and 126.7,",
+    ),
+    C(
+        F,
+        SEP,
+        [SEP_HOT_L[1], SEP_HOT_LB[1]],
+        "tau_R = 71.838 (Landau) and 171.795 (Lenard-Balescu,",
+    ),
+    C(
+        F,
+        SEP,
+        [SEP_HOT_LB[1], SEP_HOT_LB[2], SEP_HOT_L[1], SEP_HOT_L[2]],
+        "moves from 171.795 to 172.122 (Lenard-Balescu) and from 71.838 to 72.191 (Landau), its "
+        "fine-grained tau_R from 159.60 to 159.76 and from 67.01 to 67.34;",
+    ),
+    C(F, SEP, [SEP_HOT_L[1], SEP_CH2_L[1]], "1218-1254 in all)"),
+    C(
+        F,
+        SEP,
+        [*SEP_CH2_L, *SEP_CH2_LB[1:]],
+        "Landau 1948.88 to 1989.58 (1770.67 at half the nodes, 2009.17 at twice), Lenard-Balescu "
+        "2820.68 to 2837.17.",
+    ),
+    C(
+        F,
+        SEP,
+        [SEP_HOT_LB[1], SEP_HOT_LB[2], SEP_HOT_L[1], SEP_HOT_L[2]],
+        "for Lenard-Balescu (8.91958e-04, 9.00247e-04); for Landau it does not (1.14222e-04, "
+        "1.29642e-04): there M0 first falls fast and comes back (dM0/dtau = -3.50954e-02 at tau = 0)",
+    ),
+    C(
+        F,
+        SEP,
+        SEP_ETA,
+        "ch2*'s Landau tau_R is 309.65, 1630.63, 1946.10, 1948.87 with the grid stopping at",
     ),
     C(
         F,
@@ -684,11 +752,8 @@ CLAIMS = [
         [
             "MD N = 8000: t_R = 4.427e+05 +- 2.1e+04, t_R/N = 55.34",
             "MD N = 16000: t_R = 1.11e+06 +- 5.4e+04, t_R/N = 69.36",
-            "= 0.437 (lenard_balescu)",
-            "= 0.547 (lenard_balescu)",
         ],
-        "t_R/N = 55.34 and 69.36 (t_R = 4.427e+05 +- 2.1e+04 and 1.11e+06 +- 5.4e+04), 0.437 and "
-        "0.547 of Lenard-Balescu's",
+        "t_R/N = 55.34 and 69.36 (t_R = 4.427e+05 +- 2.1e+04 and 1.11e+06 +- 5.4e+04),",
     ),
     C(F, LARGE, ["alpha = 1.326 +- 0.098"], "t_R grows as N^(1.326 +- 0.098)"),
     C(
@@ -1078,6 +1143,17 @@ CLAIMS = [
 
 #: numbers that are parameters, definitions or names, not results: (page, phrase)
 CONTEXT = [
+    ("README.md", "(grid in kappa - 1 down to 1e-16;"),
+    ("docs/findings.md", "within |kappa - 1| ~ 1e-16."),
+    ("docs/findings.md", "eta = kappa - 1 instead"),
+    ("docs/findings.md", "<cos theta> + 1 and its cell integrals"),
+    ("docs/findings.md", "down to |eta| = 1e-100)"),
+    ("docs/findings.md", "a sub-step of 1e-3 of it"),
+    ("docs/findings.md", "(600 outer nodes,"),
+    ("docs/findings.md", "to 1.5 times its nodes"),
+    ("docs/findings.md", "with the grid stopping at |kappa - 1| = 1e-2, 1e-4, 1e-8, 1e-16"),
+    ("docs/findings.md", "once the grid reaches 1e-8, and a grid that stops at 1e-2 or 1e-4"),
+    ("docs/findings.md", "dM0/dtau at tau = 0 is not"),
     ("README.md", "Phys. Rev. E 95, 022111 (2017)"),
     ("README.md", "N = 5e5 (1e6 at u = 0.2475)"),
     ("README.md", "Python 3.11"),

@@ -975,7 +975,6 @@ FREE_FIELDS = {
         "rtol": "the step's error control",
         "thermal_tol": "the stopping criterion",
         "eps_refresh": "when the dielectric tensor is recomputed",
-        "separatrix_band": "the grid next to the separatrix",
         "layer_eta_min": "the grid next to the separatrix",
         "dlog_omega": "the grid next to the separatrix",
         "min_per_decade": "the grid next to the separatrix",
