@@ -315,14 +315,15 @@ _FIGURE_LIST = (
         "fig13",
         fig13_relaxation_time,
         (Inputs("relaxation_comparison", "relaxation_comparison/{case}.nc"),),
-        "Fig. 13: relaxation time t_R (HMF time) of the N-body ensembles, the time at which the "
-        "coarse-grained entropy deficit S_eq - S of the J-bar histogram has fallen by e, with "
-        "its jackknife error over groups of realisations, against N on log axes (open squares, "
-        "where a thermal control was run: the deficit measured against the control's entropy "
-        "instead of the theory's S_eq), with the fitted power law and its exponent, and the "
-        "kinetic predictions t_R = tau_R^coarse N of "
-        "the Lenard-Balescu and Landau equations (same definition on the same bins; not the "
-        "fine-grained tau_R^fine of figure 11).",
+        "Fig. 13: relaxation time per particle t_R/N of the N-body ensembles (t_R in HMF time: "
+        "the time at which the coarse-grained entropy deficit S_eq - S of the J-bar histogram "
+        "has fallen by e), with its jackknife error over groups of realisations, against N "
+        "(open squares, where a thermal control was run: the deficit measured against the "
+        "control's entropy instead of the theory's S_eq), with the fitted power law t_R = A "
+        "N^alpha and its exponent, and the kinetic predictions tau_R^coarse of the "
+        "Lenard-Balescu and Landau equations, independent of N at their order 1/N (same "
+        "definition on the same bins, on the grid with the layer next to the separatrix "
+        "resolved; not the fine-grained tau_R^fine of figure 11).",
         _RELAX_CAT,
     ),
     Figure(

@@ -134,20 +134,20 @@ def fig12_relaxation_md(inputs, pdf, png):
 
 
 def fig13_relaxation_time(inputs, pdf, png):
-    """The MD relaxation time against N (log axes) with the fitted exponent, and the kinetic
-    predictions t_R = tau_R N."""
+    """The MD relaxation time per particle t_R/N against N (log N) with the fitted power law,
+    and the kinetic predictions tau_R^coarse (order 1/N: independent of N)."""
     cases = inputs["relaxation_comparison"]
     fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases), 4), squeeze=False)
     titles = []
     for ax, ds in zip(axes[0], cases, strict=True):
         n = ds["N"].values.astype(float)
-        tr, te = ds["t_relax_md"].values, ds["t_relax_md_err"].values
+        tr, te = ds["t_relax_md"].values / n, ds["t_relax_md_err"].values / n
         ax.errorbar(n, tr, te, fmt="o", color="C0", label="MD(full) ensembles")
         if "t_relax_md_vs_control" in ds and np.isfinite(ds["t_relax_md_vs_control"]).any():
             ax.errorbar(
                 n * 1.04,
-                ds["t_relax_md_vs_control"].values,
-                ds["t_relax_md_vs_control_err"].values,
+                ds["t_relax_md_vs_control"].values / n,
+                ds["t_relax_md_vs_control_err"].values / n,
                 fmt="s",
                 mfc="none",
                 color="C0",
@@ -157,20 +157,20 @@ def fig13_relaxation_time(inputs, pdf, png):
         a, ae, amp = ds.attrs["exponent"], ds.attrs["exponent_err"], ds.attrs["prefactor"]
         if np.isfinite(a):
             ax.plot(
-                grid, amp * grid**a, "C0-", lw=1, label=rf"fit $\propto N^{{{a:.2f}\pm{ae:.2f}}}$"
+                grid,
+                amp * grid ** (a - 1.0),
+                "C0-",
+                lw=1,
+                label=rf"fit $t_R \propto N^{{{a:.2f}\pm{ae:.2f}}}$",
             )
         for eq, label, c, ls in _KIN:
             key = f"tau_relax_coarse_{eq}"
             if key in ds and np.isfinite(float(ds[key])):
                 t_eq = float(ds[key])
                 tr_c = r"\tau_R^{\rm coarse}"
-                lab = rf"{label}: $t_R = {tr_c} N$, ${tr_c}={sci(t_eq)}$"
-                ax.plot(grid, t_eq * grid, color=c, ls=ls, lw=1, label=lab)
+                ax.axhline(t_eq, color=c, ls=ls, lw=1, label=rf"{label}: ${tr_c}={sci(t_eq)}$")
         ax.set_xscale("log")
-        shown = [line.get_ydata() for line in ax.get_lines()] + [tr]
-        if np.any(np.concatenate([np.ravel(y) for y in shown]) > 0):
-            ax.set_yscale("log")
-        else:
+        if not np.isfinite(tr).any():
             ax.text(
                 0.5,
                 0.5,
@@ -179,13 +179,19 @@ def fig13_relaxation_time(inputs, pdf, png):
                 ha="center",
                 va="center",
             )
+        ax.set_xlim(n.min() / 2, n.max() * 2)
+        ax.set_xticks(n, [f"{v:g}" for v in n])  # the sizes run, without crowded minor labels
+        ax.minorticks_off()
+        shown = [np.ravel(line.get_ydata()) for line in ax.get_lines()] + [tr + te]
+        top = np.nanmax(np.concatenate(shown)) if np.isfinite(np.concatenate(shown)).any() else 1
+        ax.set_ylim(0.0, 1.2 * top)
         ax.set_xlabel(r"$N$")
-        ax.set_ylabel(rf"coarse-grained relaxation time $t_R$ ({HMF})")
+        ax.set_ylabel(r"relaxation time per particle $t_R/N$ (coarse-grained)")
         ax.legend(fontsize=7)
         titles.append(f"{ds.attrs.get('case', '')}: entropy deficit / e")
     tag_panels(axes, titles)
     fig.tight_layout()
-    save_figure(fig, pdf, png, inputs, "Fig. 13: relaxation time against N")
+    save_figure(fig, pdf, png, inputs, "Fig. 13: relaxation time per particle against N")
 
 
 def _rate_panel(ax, ds, key, ylabel):
