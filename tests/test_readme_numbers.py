@@ -727,7 +727,8 @@ CLAIMS = [
         SEP,
         [SEP_HOT_LB[1], SEP_HOT_LB[2], SEP_HOT_L[1], SEP_HOT_L[2]],
         "for Lenard-Balescu (8.91958e-04, 9.00247e-04); for Landau it does not (1.14222e-04, "
-        "1.29642e-04): there M0 first falls fast and comes back (dM0/dtau = -3.50954e-02 at tau = 0)",
+        "1.29642e-04): there M0 first falls fast and comes back (dM0/dtau = -3.50954e-02 at "
+        "tau = 0)",
     ),
     C(
         F,
