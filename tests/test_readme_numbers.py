@@ -742,7 +742,8 @@ CLAIMS = [
         F,
         SEP,
         SEP_ETA,
-        "ch2*'s Landau tau_R is 309.65, 1630.63, 1946.10, 1948.87, 1958.76 with the grid stopping at",
+        "ch2*'s Landau tau_R is 309.65, 1630.63, 1946.10, 1948.87, 1958.76 with the grid "
+        "stopping at",
     ),
     C(
         F,
