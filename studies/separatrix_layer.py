@@ -3,7 +3,7 @@ next to the separatrix.
 
     python studies/separatrix_layer.py eta_min CASE EQUATION [ETA_MIN ...]
     python studies/separatrix_layer.py grid CASE EQUATION [FACTOR ...]
-    python studies/separatrix_layer.py derivative CASE EQUATION [face|interpolated ...]
+    python studies/separatrix_layer.py derivative CASE EQUATION [face|interpolated|mixed ...]
     python studies/separatrix_layer.py all                     # the table of the docs
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
@@ -131,7 +131,7 @@ def sweep(kind, case, equation, values):
 ALL = [
     ("eta_min", ["1e-2", "1e-4", "1e-8", "1e-16", "1e-32", "1e-64"]),
     ("grid", ["0.5", "1", "1.5", "2"]),
-    ("derivative", ["face"]),
+    ("derivative", ["face", "mixed"]),
 ]
 
 

@@ -726,6 +726,19 @@ CLAIMS = [
     C(
         F,
         SEP,
+        [
+            "ch2 landau derivative=mixed 1218 1836.71",
+            "hot lenard_balescu derivative=mixed 1254 156.44 167.023",
+            SEP_CH2_L[1],
+            SEP_HOT_LB[1],
+        ],
+        "tau_R = 1836.71 and the hot halo's Lenard-Balescu tau_R^coarse = 167.023 at the default "
+        "grid, 6 % and 3 % below",
+        {"6": "(1948.88 - 1836.71) / 1948.88 * 100", "3": "(171.795 - 167.023) / 171.795 * 100"},
+    ),
+    C(
+        F,
+        SEP,
         [*SEP_CH2_L, *SEP_CH2_LB[1:]],
         "Landau 1948.88 to 1989.58 (1770.67 at half the nodes, 2009.17 at twice), Lenard-Balescu "
         "2820.68 to 2837.17.",

@@ -120,6 +120,10 @@ class Events:
     omega: np.ndarray  # (O,) its reduced frequency n Omega = n' Omega' (interval midpoint)
     bare_cc: np.ndarray  # (O,) 16 pi^3 c_n^2 c'_n'^2 int omega^2 rho rho' domega (reduced)
     bare_ss: np.ndarray  # (O,) the same with sigma_n^2 sigma'_n'^2
+    #: (E, N-1): which faces carry each event's current (None: C itself); 'mixed' reads
+    #: d ln f/dh at the resonance (C, second order) and hands the current to the face the
+    #: resonance lies in (A, the face's own quotient's row)
+    A: sparse.csr_matrix | None = None
 
     @property
     def size(self):
@@ -299,23 +303,27 @@ def resonance_events(geom, n_max, m=4, m_sep=24, derivative="face"):
     theta_b = np.bincount(inv, weights=wt * np.concatenate(thb)) / wsum
     a, b = np.divmod(uk, nf)
     E = a.size
-    C = _derivative_at(geom, a, theta_a, derivative) - _derivative_at(geom, b, theta_b, derivative)
+    read = "interpolated" if derivative == "mixed" else derivative
+    C = _derivative_at(geom, a, theta_a, read) - _derivative_at(geom, b, theta_b, read)
+    A = None
+    if derivative == "mixed":
+        A = _derivative_at(geom, a, theta_a, "face") - _derivative_at(geom, b, theta_b, "face")
     r4 = np.repeat(np.arange(E), 4)
     c4 = np.stack([a, a + 1, b, b + 1], axis=1).ravel()
     p4 = np.stack([1.0 - theta_a, theta_a, 1.0 - theta_b, theta_b], axis=1).ravel()
     P = sparse.csr_matrix((p4, (r4, c4)), shape=(E, nf + 1))
     if not (np.all(np.isfinite(vcc)) and np.all(np.isfinite(vss))):
         raise FloatingPointError("non-finite resonance weight on the grid")
-    return Events(a, b, C, P, inv, np.concatenate(oms), KERNEL * vcc, KERNEL * vss)
+    return Events(a, b, C, P, inv, np.concatenate(oms), KERNEL * vcc, KERNEL * vss, A)
 
 
-def jacobian_assembly(Xhat, P):
+def jacobian_assembly(Xhat, P, Ahat=None):
     """Sparse maps from per-event weights to the entries of the dense Jacobian: with v, u per
     event, (X^T diag(v) X)_ij = (A1 v)_{iN+j} and (X^T diag(u) P)_ij = (A2 u)_{iN+j}, A1 and A2
     (N*N, E) holding the outer products of each event's few nonzeros; so that a Newton matrix
     costs two sparse matrix-vector products.  Computed once per grid (reduced X^)."""
     n = Xhat.shape[1]
-    Xc = Xhat.tocoo()
+    Xc = (Xhat if Ahat is None else Ahat).tocoo()  # the left factor: A^ where it differs
     maps = []
     for right in (Xhat.tocsr(), P.tocsr()):
         start, idx, dat = right.indptr, right.indices, right.data
@@ -345,7 +353,9 @@ class CollisionOperator:
         self.Xhat = (events.C @ geom.D).tocsr()  # (E, N), reduced units
         self.X = (self.Xhat / self.M).tocsr()  # X = X^/M
         self.P = events.P
-        self.XT = self.X.T.tocsr()
+        # the current's attribution to faces: X itself, or A (events.A) where it differs
+        self.Ahat = None if events.A is None else (events.A @ geom.D).tocsr()
+        self.XT = (self.X if self.Ahat is None else self.Ahat / self.M).T.tocsr()
         self.dj = np.sqrt(self.M) * geom.dj  # face spacings in J-bar
         self.assembly = assembly
 
@@ -366,7 +376,7 @@ class CollisionOperator:
         """d(rate)/dy as a dense (N, N) array, from `jacobian_assembly` (J = -(X^T diag(W F) X
         + X^T diag(W F X y) P) with X = X^/M)."""
         if self.assembly is None:
-            self.assembly = jacobian_assembly(self.Xhat, self.P)
+            self.assembly = jacobian_assembly(self.Xhat, self.P, self.Ahat)
         F, Xy = self._parts(y, level)
         WF = self.W * F
         n = self.X.shape[1]
@@ -384,10 +394,12 @@ class CollisionOperator:
         """Number flux 4 pi G-bar through each face a (towards larger J-bar)."""
         F, Xy = self._parts(y, level)
         # C at M is C^/sqrt(M) (dj/dh: sqrt(M) dj^ / (M deps^)), and dj = sqrt(M) dj^
-        q = (self.events.C.T @ (self.W * F * Xy)) / np.sqrt(self.M)
+        attribution = self.events.C if self.events.A is None else self.events.A
+        q = (attribution.T @ (self.W * F * Xy)) / np.sqrt(self.M)
         return -q / self.dj
 
     def entropy_production(self, y, level=0.0):
-        """dS/dtau = sum_e W F X[ln f]^2 >= 0."""
+        """dS/dtau = sum_e W F X[ln f] A[ln f] (= sum_e W F X[ln f]^2 >= 0 where A is X)."""
         F, Xy = self._parts(y, level)
-        return float(np.sum(self.W * F * Xy**2))
+        Ay = Xy if self.Ahat is None else (self.Ahat @ y) / self.M
+        return float(np.sum(self.W * F * Xy * Ay))

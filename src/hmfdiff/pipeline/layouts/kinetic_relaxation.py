@@ -20,8 +20,10 @@ import json
 import numpy as np
 import xarray as xr
 
-from ...kinetic.grid import JS_HAT
 from .variables import ACTION, ENERGY_PER_PARTICLE, NONNEGATIVE, UNIT_INTERVAL, variable
+
+#: J-bar of the separatrix over sqrt(M0): 4/pi (eq. (40))
+JS_HAT = 4.0 / np.pi
 
 __all__ = ["relaxation_times", "kinetic_relaxation_dataset"]
 
