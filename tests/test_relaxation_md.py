@@ -202,9 +202,9 @@ def test_fig12_snapshot_panel_draws_only_the_md_data():
 
 def test_fig13_draws_the_coarse_grained_kinetic_times(monkeypatch):
     """Figure 13 reads `tau_relax_coarse_{eq}` (a made-up 40 and 120 here): each kinetic line
-    is t_R = tau_R^coarse N on the plotted N grid and its legend names tau_R^coarse with its
-    value; the MD points are t_relax_md with their jackknife errors.  (A figure still looking
-    for another name draws no kinetic line at all: that is what this catches.)"""
+    is t_R/N = tau_R^coarse, independent of N, and its legend names tau_R^coarse with its
+    value; the MD points are t_relax_md / N with their jackknife errors / N.  (A figure still
+    looking for another name draws no kinetic line at all: that is what this catches.)"""
     from hmfdiff.analysis.figures import relaxation_md_figures as rmf
 
     drawn = []
@@ -226,9 +226,12 @@ def test_fig13_draws_the_coarse_grained_kinetic_times(monkeypatch):
         for name, tau in (("Landau", 40.0), ("Lenard-Balescu", 120.0)):
             (lab,) = [k for k in labels if k.startswith(name + ":")]
             assert r"\tau_R^{\rm coarse}" in lab and f"={tau:g}" in lab
-            x, y = labels[lab].get_xdata(), labels[lab].get_ydata()
-            np.testing.assert_allclose(y, tau * x)
+            np.testing.assert_allclose(labels[lab].get_ydata(), tau)
         (pts,) = [c for c in ax.containers if type(c).__name__ == "ErrorbarContainer"]
-        np.testing.assert_allclose(pts.lines[0].get_ydata(), [3.6e4, 1.68e5])
+        np.testing.assert_allclose(pts.lines[0].get_ydata(), [36.0, 42.0])
+        (bars,) = pts.lines[2]
+        np.testing.assert_allclose(  # the error bars: t_R/N -+ err/N
+            [seg[:, 1] for seg in bars.get_segments()], [[31.5, 40.5], [39.0, 45.0]]
+        )
     finally:
         rmf.plt.close(drawn[0])
