@@ -4,6 +4,7 @@ next to the separatrix.
     python studies/separatrix_layer.py eta_min CASE EQUATION [ETA_MIN ...]
     python studies/separatrix_layer.py grid CASE EQUATION [FACTOR ...]
     python studies/separatrix_layer.py derivative CASE EQUATION [face|interpolated|mixed ...]
+    python studies/separatrix_layer.py n_max CASE EQUATION [N_MAX ...]
     python studies/separatrix_layer.py all                     # the table of the docs
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
@@ -14,11 +15,12 @@ grid refined by a FACTOR (`n_nodes` times it, and with it the resolution in ln O
 `dlog_omega` = 6/n_nodes: that resolution grades the grid next to the separatrix, where
 Omega -> 0 as 1/ln(1/|kappa - 1|));
 or how the resonances read d ln f/dh within a face (`kinetic.relaxation.DERIVATIVE`: the face's
-own difference quotient, first order, or interpolated to the resonance, second order).  It
-prints tau_R (fine-grained
-entropy deficit / e), tau_R^coarse (the same on the N-body ensembles' 40 J-bar bins to
-kappa = 3, as results/relaxation_comparison), dM0/dtau at tau = 0 (`dM0dtau_initial`), the mean
-rate over tau <= 0.5 (`dM0dtau_early`, the window of results/relaxation_rates), the number of
+own difference quotient, first order, or interpolated to the resonance, second order, with the
+current shared between faces or, 'mixed', handed to the resonance's face); or the harmonics
+kept (`n_max` and `l_max` together).  It prints tau_R (fine-grained entropy deficit / e),
+tau_R^coarse (the same on the N-body ensembles' 40 J-bar bins to kappa = 3, as
+results/relaxation_comparison), dM0/dtau at tau = 0 (`dM0dtau_initial`), the mean rate over
+tau <= 0.5 (`dM0dtau_early`, the window of results/relaxation_rates), the number of
 nodes and the wall time.  Runs on one core.  Output of `all`: docs/reference/separatrix_layer.txt.
 """
 
@@ -60,7 +62,7 @@ CASES = {
 }
 #: the reproduction's settings (config/config.yaml relaxation block)
 BASE = dict(rtol=1e-3, thermal_tol=1e-3, tau_max=1e5)
-VARY = ("eta_min", "grid", "derivative")
+VARY = ("eta_min", "grid", "derivative", "n_max")
 
 
 def coarse_time(out, state):
@@ -116,6 +118,8 @@ def sweep(kind, case, equation, values):
             factor = float(v)
             kw = {"n_nodes": int(round(default.n_nodes * factor))}  # dlog_omega = 6/n_nodes
             label = f"grid x{factor:g}"
+        elif kind == "n_max":  # the resonances' and the dielectric's harmonics together
+            kw, label = {"n_max": int(v), "l_max": int(v)}, f"n_max={int(v)}"
         else:
             kw, label = {}, f"derivative={v}"
         saved = relaxation.DERIVATIVE
@@ -132,6 +136,7 @@ ALL = [
     ("eta_min", ["1e-2", "1e-4", "1e-8", "1e-16", "1e-32", "1e-64"]),
     ("grid", ["0.5", "1", "1.5", "2"]),
     ("derivative", ["face", "mixed"]),
+    ("n_max", ["4", "6", "8"]),
 ]
 
 
