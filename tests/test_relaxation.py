@@ -7,13 +7,14 @@ import pytest
 
 from hmfdiff.kinetic.collision import CollisionOperator, geometry, resonance_events
 from hmfdiff.kinetic.flux import fokker_planck_current, fokker_planck_jbar_current, hmflb_current
-from hmfdiff.kinetic.grid import action_grid, project_state
+from hmfdiff.kinetic.grid import project_state
 from hmfdiff.kinetic.relaxation import (
     Kinetics,
     RelaxationSettings,
     _LogDensity,
     evolve,
     face_jbar,
+    make_grid,
 )
 from hmfdiff.meanfield import separatrix
 from hmfdiff.meanfield.equilibrium import (
@@ -51,20 +52,6 @@ def test_hmflb_resonance_sum_equals_fokker_planck_current(collective):
     assert np.max(np.abs(hmflb_current(th, kappa, collective=collective))) < 1e-12 * scale
 
 
-def _grid(state, s):
-    return action_grid(
-        state.M0,
-        s.n_nodes,
-        s.kappa_max,
-        state,
-        s.feature_share,
-        s.separatrix_share,
-        s.layer_eta_min,
-        s.dlog_omega,
-        s.min_per_decade,
-    )
-
-
 @pytest.fixture(scope="module", params=EQUATIONS)
 def current_300(request, hot):
     """The scheme's current G-bar through the faces of a 300-node grid at tau = 0 (the layer
@@ -73,7 +60,7 @@ def current_300(request, hot):
     s = RelaxationSettings(
         equation=request.param, n_nodes=300, kappa_max=3.5, layer_eta_min=1e-6, dlog_omega=0.02
     )
-    grid = _grid(hot, s)
+    grid = make_grid(hot, s)
     f, M0 = project_state(hot, grid)
     op = Kinetics(grid, s).operator(f, M0)
     G = op.face_flux(np.log(f)) / (4 * np.pi)
@@ -182,7 +169,7 @@ def test_current_in_the_separatrix_band_cell_by_cell(hot, current_300):
 @pytest.mark.parametrize("equation", EQUATIONS)
 def test_operator_conserves_mass_and_energy_and_produces_entropy(hot, equation):
     s = RelaxationSettings(equation=equation, n_nodes=80, kappa_max=3.5, dlog_omega=0.05)
-    grid = _grid(hot, s)
+    grid = make_grid(hot, s)
     f, M0 = project_state(hot, grid)
     op = Kinetics(grid, s).operator(f, M0)
     h = M0 * grid.eps_hat  # the cell-average energies h - M0
@@ -346,7 +333,7 @@ def test_the_old_separatrix_band_setting_names_its_successor():
 def test_grid_operator_of_geometry_alone_is_landau(hot):
     """CollisionOperator without eps is the Landau operator `Kinetics` builds."""
     s = RelaxationSettings(equation="landau", n_nodes=60, dlog_omega=0.1)
-    grid = _grid(hot, s)
+    grid = make_grid(hot, s)
     f, M0 = project_state(hot, grid)
     geom = geometry(grid)
     op = CollisionOperator(geom, resonance_events(geom, 6, derivative="interpolated"), M0)
