@@ -244,6 +244,12 @@ BAD = [
         ["relaxation run 'corehalo_ch2': unknown field 'n_node'", "did you mean 'n_nodes'"],
     ),
     (
+        "relaxation_old_band",
+        edited(**{"relaxation__separatrix_band": 0.01}),
+        [],
+        ["relaxation: field 'separatrix_band' is now called 'layer_eta_min"],
+    ),
+    (
         "md_scaling_single_case_form",
         edited(md_scaling={"case": "thermal_u-0.1", "sizes": [1000], "seeds": 2}),
         [],
