@@ -235,3 +235,26 @@ def test_slowest_relaxation_converges_at_second_order():
     # 600-node value lies within 8 % of it
     limit = second[-1] + d2[1] ** 2 / (d2[0] - d2[1])
     assert second[-1] == pytest.approx(limit, rel=0.08)
+
+
+@pytest.mark.parametrize("layer_eta_min", [1e-16, 1e-4])
+def test_frame_remap_of_ln_f_keeps_its_gauge_and_mass(hot, layer_eta_min):
+    """`_LogDensity.remapped`: ln f = level + d with d = 0 at the gauge node (the innermost
+    librating one) in the new frame too, whether the grid reaches the deep layer, whose offsets
+    are kept, or stops short of it (1e-4: every node remapped conservatively), and the mass
+    kept exactly."""
+    from hmfdiff.kinetic.relaxation import _LogDensity, make_grid
+
+    s = RelaxationSettings(
+        equation="landau", n_nodes=48, kappa_max=3.5, layer_eta_min=layer_eta_min
+    )
+    grid = make_grid(hot, s)
+    f, M = project_state(hot, grid)
+    lnf = _LogDensity.of_state(grid, hot, M, f)
+    new = lnf.remapped(M, M * (1 - 1e-3))
+    assert new.d[new.gauge] == 0.0
+    assert grid_mass(grid, new.f, M * (1 - 1e-3)) == pytest.approx(grid_mass(grid, f, M), rel=1e-13)
+    if (
+        layer_eta_min > 1e-6
+    ):  # nothing kept (no node within DEEP_OFFSET = 1e-8 in x^): the conservative remap itself
+        np.testing.assert_allclose(new.f, remap(grid, lnf.f, M, M * (1 - 1e-3)), rtol=1e-12)

@@ -432,7 +432,7 @@ class _LogDensity:
             s1 = (lnF[2] - lnF[0]) / (2 * step)
             s2 = (lnF[2] - 2 * lnF[1] + lnF[0]) / step**2
             de = e[deep] - e[gauge]
-            d[deep] = s1 * de + 0.5 * s2 * de * (e[deep] + e[gauge] - 2 * e[gauge])
+            d[deep] = s1 * de + 0.5 * s2 * de**2
         return cls(grid, level, d)
 
     def remapped(self, M_from, M_to):
@@ -453,7 +453,11 @@ class _LogDensity:
             * np.sqrt(M_from)
             / (np.sum(grid.width_hat * f_new) * np.sqrt(M_to))
         )
-        level = self.level + np.log(factor)  # the gauge node lies in the kept layer
+        gauge = self.gauge
+        if keep[gauge]:  # the gauge node in the kept layer: its offset stays 0
+            level = self.level + np.log(factor)
+        else:  # a grid that stops short of DEEP_OFFSET: the level is ln f at the gauge node
+            level = float(np.log(f_new[gauge] * factor))
         d = np.log(f_new * factor) - level
         d[keep] = self.d[keep]
         return _LogDensity(grid, level, d)
