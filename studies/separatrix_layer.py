@@ -6,6 +6,7 @@ next to the separatrix.
     python studies/separatrix_layer.py derivative CASE EQUATION [face|interpolated|mixed ...]
     python studies/separatrix_layer.py n_max CASE EQUATION [N_MAX ...]
     python studies/separatrix_layer.py all                     # the table of the docs
+    python studies/separatrix_layer.py --derivative=mixed grid CASE EQUATION [FACTOR ...]
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
@@ -109,7 +110,9 @@ def line(case, equation, label, r):
     )
 
 
-def sweep(kind, case, equation, values):
+def sweep(kind, case, equation, values, derivative=None):
+    """One line per value; `derivative` (a `kinetic.relaxation.DERIVATIVE` option) for every
+    line of a sweep of another setting."""
     default = RelaxationSettings()
     for v in values:
         if kind == "eta_min":
@@ -123,7 +126,9 @@ def sweep(kind, case, equation, values):
         else:
             kw, label = {}, f"derivative={v}"
         saved = relaxation.DERIVATIVE
-        relaxation.DERIVATIVE = v if kind == "derivative" else saved
+        relaxation.DERIVATIVE = v if kind == "derivative" else (derivative or saved)
+        if derivative and kind != "derivative":
+            label = f"{derivative} {label}"
         try:
             r = one(case, equation, **kw)
         finally:
@@ -141,6 +146,12 @@ ALL = [
 
 
 def main(argv):
+    derivative = None
+    if argv and argv[0].startswith("--derivative="):
+        derivative, argv = argv[0].split("=", 1)[1], argv[1:]
+        if derivative not in ("face", "interpolated", "mixed"):
+            print(f"--derivative: {derivative!r} is not one of face, interpolated, mixed")
+            return 2
     if not argv:
         print(__doc__)
         return 2
@@ -156,7 +167,7 @@ def main(argv):
         print(__doc__)
         return 2
     print(HEADER)
-    sweep(kind, case, equation, values)
+    sweep(kind, case, equation, values, derivative)
     return 0
 
 
