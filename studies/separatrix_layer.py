@@ -7,6 +7,7 @@ next to the separatrix.
     python studies/separatrix_layer.py n_max CASE EQUATION [N_MAX ...]
     python studies/separatrix_layer.py all                     # the table of the docs
     python studies/separatrix_layer.py --derivative=mixed grid CASE EQUATION [FACTOR ...]
+    python studies/separatrix_layer.py uncertainty OUT.csv [CASE:EQUATION ...]
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
@@ -23,6 +24,13 @@ tau_R^coarse (the same on the N-body ensembles' 40 J-bar bins to kappa = 3, as
 results/relaxation_comparison), dM0/dtau at tau = 0 (`dM0dtau_initial`), the mean rate over
 tau <= 0.5 (`dM0dtau_early`, the window of results/relaxation_rates), the number of
 nodes and the wall time.  Runs on one core.  Output of `all`: docs/reference/separatrix_layer.txt.
+
+`uncertainty`: for each case and equation (default: both of both), three evolutions with the
+reproduction's own settings (config/config.yaml's relaxation block and the case's run, so that
+its default line is the pipeline's number): as they are, with 1.5 times the nodes, and with the
+harmonics n_max = l_max = 8.  It prints their lines and writes OUT.csv, the table from which
+results/relaxation_comparison draws the kinetic times' uncertainty bands (figures 13 and 16):
+docs/reference/kinetic_time_uncertainty.csv.
 """
 
 from __future__ import annotations
@@ -64,6 +72,80 @@ CASES = {
 #: the reproduction's settings (config/config.yaml relaxation block)
 BASE = dict(rtol=1e-3, thermal_tol=1e-3, tau_max=1e5)
 VARY = ("eta_min", "grid", "derivative", "n_max")
+#: the pipeline's names of the cases
+CASE_NAMES = {"ch2": "corehalo_ch2", "hot": "corehalo_hothalo"}
+#: the uncertainty table: refinement factor of the grid and the harmonics of the check
+GRID_CHECK, N_MAX_CHECK = 1.5, 8
+UNCERTAINTY_COLUMNS = (
+    "case equation derivative settings tau_R_fine tau_R_fine_grid tau_R_fine_harmonics "
+    "tau_R_coarse tau_R_coarse_grid tau_R_coarse_harmonics dM0dtau_early dM0dtau_early_grid "
+    "dM0dtau_early_harmonics grid_factor n_max_check"
+).split()
+
+
+def pipeline_settings(case):
+    """The relaxation settings of config/config.yaml for the case (block, then the run)."""
+    import yaml
+
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with open(os.path.join(root, "config", "config.yaml")) as fh:
+        block = dict(yaml.safe_load(fh)["relaxation"])
+    run = (block.pop("runs", None) or {}).get(CASE_NAMES[case]) or {}
+    for key in ("equations", "check_stability"):
+        block.pop(key, None)
+    return {**block, **run}
+
+
+def uncertainty(out_path, pairs):
+    """The `uncertainty` table (see the module's docstring)."""
+    import csv
+    import json
+
+    rows = []
+    for case, equation in pairs:
+        base = pipeline_settings(case)
+        if "flux_times" in base:
+            base["flux_times"] = tuple(float(t) for t in base["flux_times"])
+        runs = {
+            "": dict(base),
+            "_grid": {**base, "n_nodes": int(round(base.get("n_nodes", 600) * GRID_CHECK))},
+            "_harmonics": {**base, "n_max": N_MAX_CHECK, "l_max": N_MAX_CHECK},
+        }
+        labels = {"": "pipeline", "_grid": f"grid x{GRID_CHECK:g}", "_harmonics": "n_max=8"}
+        row = {
+            "case": CASE_NAMES[case],
+            "equation": equation,
+            "derivative": relaxation.DERIVATIVE,
+            "grid_factor": GRID_CHECK,
+            "n_max_check": N_MAX_CHECK,
+        }
+        for suffix, kw in runs.items():
+            spec, _ = CASES[case]
+            settings = RelaxationSettings(equation=equation, **kw)
+            state = make_state(spec)
+            t0 = time.perf_counter()
+            out = evolve(state, settings)
+            r = {
+                "tau_fine": relaxation_times(out)[0],
+                "tau_coarse": coarse_time(out, state),
+                "dM0_initial": float(out["dM0dtau_initial"]),
+                "dM0_early": float(out["dM0dtau_early"]),
+                "nodes": int(out["eta"].size),
+                "thermalised": out["thermalised"],
+                "du": float(np.max(np.abs(out["u"] - out["u"][0]))),
+                "wall": time.perf_counter() - t0,
+            }
+            print(line(case, equation, labels[suffix], r), flush=True)
+            if suffix == "":
+                row["settings"] = json.dumps(settings.as_dict(), sort_keys=True, default=list)
+            row[f"tau_R_fine{suffix}"] = r["tau_fine"]
+            row[f"tau_R_coarse{suffix}"] = r["tau_coarse"]
+            row[f"dM0dtau_early{suffix}"] = r["dM0_early"]
+        rows.append(row)
+        with open(out_path, "w", newline="") as fh:  # rewritten after each pair: partial runs
+            w = csv.DictWriter(fh, fieldnames=UNCERTAINTY_COLUMNS)
+            w.writeheader()
+            w.writerows(rows)
 
 
 def coarse_time(out, state):
@@ -155,6 +237,16 @@ def main(argv):
     if not argv:
         print(__doc__)
         return 2
+    if argv[0] == "uncertainty" and len(argv) >= 2:
+        pairs = [tuple(a.split(":")) for a in argv[2:]] or [
+            (c, e) for c in ("ch2", "hot") for e in ("landau", "lenard_balescu")
+        ]
+        if not all(len(p) == 2 and p[0] in CASES for p in pairs):
+            print(__doc__)
+            return 2
+        print(HEADER)
+        uncertainty(argv[1], pairs)
+        return 0
     if argv[0] == "all":
         print(HEADER)
         for case in ("ch2", "hot"):

@@ -973,6 +973,7 @@ FREE_FIELDS = {
         "check_stability": "a switch",
         "l_max": "the dielectric tensor's cut-off",
         "rtol": "the step's error control",
+        "early_rtol": "the step's error control within the early window",
         "thermal_tol": "the stopping criterion",
         "eps_refresh": "when the dielectric tensor is recomputed",
         "layer_eta_min": "the grid next to the separatrix",
