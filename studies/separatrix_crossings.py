@@ -78,6 +78,8 @@ def realisation(state, N, seed, member, *, dt, every, T):
     g = np.count_nonzero(np.abs(k0 - 1.0) < 0.02) / (0.04 * N)  # fraction per unit kappa
     k_start = k0[idx]
     n_per = int(round(every / dt))
+    if n_per < 1 or abs(n_per * dt - every) > 1e-9 * every:
+        raise ValueError(f"the sampling interval {every} must be a multiple of dt = {dt}")
     n_s = int(round(T / every)) + 1
     th_s = np.empty((n_s, idx.size), np.float32)
     p_s = np.empty((n_s, idx.size), np.float32)
