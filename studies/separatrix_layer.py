@@ -8,6 +8,7 @@ next to the separatrix.
     python studies/separatrix_layer.py all                     # the table of the docs
     python studies/separatrix_layer.py --derivative=mixed grid CASE EQUATION [FACTOR ...]
     python studies/separatrix_layer.py uncertainty OUT.csv [CASE:EQUATION ...]
+    python studies/separatrix_layer.py finite_n EQUATION [N ...]
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
@@ -31,6 +32,14 @@ its default line is the pipeline's number): as they are, with 1.5 times the node
 harmonics n_max = l_max = 8.  It prints their lines and writes OUT.csv, the table from which
 results/relaxation_comparison draws the kinetic times' uncertainty bands (figures 13 and 16):
 docs/reference/kinetic_time_uncertainty.csv.
+
+`finite_n`: the finite-N layer model of the hot halo.  The N-body's separatrix is smeared over
+|kappa - 1| < delta(N) (docs/reference/separatrix_crossings.txt: delta_rate, the step of the
+random walk in kappa that gives the measured rate of family changes, 0.273 N^-0.490); the model
+is the kinetic equation on the reproduction's grid with the innermost cells spanning that layer
+(layer_eta_min = delta(N): one cell a side, f uniform within it, no orbit closer to the
+separatrix than the cell's average).  No parameter is fitted: delta(N) is the N-body's.  It
+prints tau_R^coarse (the prediction of the N-body t_R/N) and dM0/dtau over tau <= 0.5.
 """
 
 from __future__ import annotations
@@ -94,6 +103,45 @@ def pipeline_settings(case):
     for key in ("equations", "check_stability"):
         block.pop(key, None)
     return {**block, **run}
+
+
+def layer_width(n, path=None):
+    """delta(N) of the hot halo: the power law fitted to delta_rate in
+    docs/reference/separatrix_crossings.txt (the line '#   hot     delta_rate   b = ...')."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    path = path or os.path.join(root, "docs", "reference", "separatrix_crossings.txt")
+    with open(path) as fh:
+        for text in fh:
+            words = text.split()
+            if words[:3] == ["#", "hot", "delta_rate"]:
+                b = float(words[words.index("b") + 2])
+                a = float(words[words.index("a") + 2])
+                return a * float(n) ** b
+    raise ValueError(f"{path}: no hot delta_rate line")
+
+
+def finite_n(equation, sizes):
+    """The `finite_n` lines (see the module's docstring)."""
+    base = pipeline_settings("hot")
+    base["flux_times"] = tuple(float(t) for t in base.get("flux_times", (0.0,)))
+    spec, _ = CASES["hot"]
+    for n in sizes:
+        delta = layer_width(n)
+        settings = RelaxationSettings(equation=equation, **{**base, "layer_eta_min": delta})
+        state = make_state(spec)
+        t0 = time.perf_counter()
+        out = evolve(state, settings)
+        r = {
+            "tau_fine": relaxation_times(out)[0],
+            "tau_coarse": coarse_time(out, state),
+            "dM0_initial": float(out["dM0dtau_initial"]),
+            "dM0_early": float(out["dM0dtau_early"]),
+            "nodes": int(out["eta"].size),
+            "thermalised": out["thermalised"],
+            "du": float(np.max(np.abs(out["u"] - out["u"][0]))),
+            "wall": time.perf_counter() - t0,
+        }
+        print(line("hot", equation, f"N={int(n)} delta={delta:.3e}", r), flush=True)
 
 
 def uncertainty(out_path, pairs):
@@ -237,6 +285,10 @@ def main(argv):
     if not argv:
         print(__doc__)
         return 2
+    if argv[0] == "finite_n" and len(argv) >= 2:
+        print(HEADER)
+        finite_n(argv[1], [float(n) for n in argv[2:]] or [1e3, 2e3, 4e3, 8e3, 1.6e4, 6.4e4])
+        return 0
     if argv[0] == "uncertainty" and len(argv) >= 2:
         pairs = [tuple(a.split(":")) for a in argv[2:]] or [
             (c, e) for c in ("ch2", "hot") for e in ("landau", "lenard_balescu")

@@ -235,3 +235,45 @@ def test_fig13_draws_the_coarse_grained_kinetic_times(monkeypatch):
         )
     finally:
         rmf.plt.close(drawn[0])
+
+
+def test_fig13_draws_the_bands_and_the_reference_points(monkeypatch):
+    """The kinetic times' uncertainty (`tau_relax_coarse_{eq}_band`) is shaded over exactly its
+    range, and the N-body times of runs not rebuilt (`t_relax_md_reference`) are drawn at
+    t_R/N beside the run's own; a band of NaN draws nothing."""
+    from hmfdiff.analysis.figures import relaxation_md_figures as rmf
+
+    drawn = []
+    monkeypatch.setattr(rmf, "save_figure", lambda fig, *a, **k: drawn.append(fig))
+    ds = xr.Dataset(
+        {
+            "t_relax_md": (("N",), [3.6e4, 1.68e5]),
+            "t_relax_md_err": (("N",), [4.5e3, 1.2e4]),
+            "tau_relax_coarse_landau": ((), 40.0),
+            "tau_relax_coarse_landau_band": (("bound",), [38.0, 43.0]),
+            "tau_relax_coarse_lenard_balescu": ((), 120.0),
+            "tau_relax_coarse_lenard_balescu_band": (("bound",), [np.nan, np.nan]),
+            "t_relax_md_reference": (("N_reference",), [4.4e5, 1.1e6]),
+            "t_relax_md_reference_err": (("N_reference",), [2e4, 5e4]),
+        },
+        coords={"N": [1000, 4000], "N_reference": [8000, 16000]},
+        attrs={"case": "hot", "exponent": 1.1, "exponent_err": 0.1, "prefactor": 16.0},
+    )
+    rmf.fig13_relaxation_time({"relaxation_comparison": [ds]}, None, None)
+    ax = drawn[0].axes[0]
+    try:
+        spans = [p for p in ax.patches if "grid, harmonics" in p.get_label()]
+        assert len(spans) == 1 and spans[0].get_label().startswith("Landau")
+        span = spans[0]  # a Rectangle (matplotlib >= 3.9) or a Polygon, y in data units
+        if hasattr(span, "get_height"):
+            ys = [span.get_y(), span.get_y() + span.get_height()]
+        else:
+            ys = np.asarray(span.get_xy())[:, 1]
+        assert (min(ys), max(ys)) == pytest.approx((38.0, 43.0))
+        bars = [c for c in ax.containers if type(c).__name__ == "ErrorbarContainer"]
+        ref = [b for b in bars if "reference" in b.get_label()]
+        assert len(ref) == 1
+        np.testing.assert_allclose(ref[0].lines[0].get_ydata(), [55.0, 68.75])
+        assert ax.get_xlim()[1] >= 16000
+    finally:
+        rmf.plt.close(drawn[0])

@@ -1,5 +1,7 @@
 # Helpers of the N-body relaxation rules (relaxation_md.smk).
 # INITIALS: an early-window ensemble is drawn from the state, or from its thermal control
+import os
+
 from hmfdiff.analysis.relaxation_rates import INITIALS
 
 
@@ -50,6 +52,14 @@ def relaxation_md_runtime_min(case, n):
     return ensemble_runtime_min(config["relaxation_md"], n)
 
 
+#: the kinetic relaxation times' numerical uncertainty (studies/separatrix_layer.py uncertainty)
+KINETIC_UNCERTAINTY = "docs/reference/kinetic_time_uncertainty.csv"
+#: N-body relaxation times of experiments the default reproduction does not rebuild
+REFERENCE_MD_SUMMARIES = [
+    "docs/reference/experiments/hothalo_large_n/relaxation_comparison_summary.txt"
+]
+
+
 def relaxation_comparison_inputs(wildcards=None):
     """Every ensemble, and the kinetic evolutions and initial state of every case."""
     cases = relaxation_md_cases()
@@ -59,6 +69,9 @@ def relaxation_comparison_inputs(wildcards=None):
         "control": relaxation_md_controls(),
         "kinetic": [f"{RES}/relaxation/{c}_{e}.nc" for c in cases for e in equations],
         "equilibrium": [f"{RES}/equilibrium/{c}.nc" for c in cases],
+        # reference copies, where the checkout has them (not in a bare copy of the workflow)
+        "uncertainty": [p for p in [KINETIC_UNCERTAINTY] if os.path.exists(p)],
+        "reference_md": [p for p in REFERENCE_MD_SUMMARIES if os.path.exists(p)],
     }
 
 

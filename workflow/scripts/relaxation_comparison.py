@@ -4,10 +4,14 @@ evolutions (results/relaxation_comparison.csv, _summary.txt, relaxation_comparis
 import csv
 import os
 
+from hmfdiff.analysis.kinetic_uncertainty import md_times_from_summary, read_uncertainty_table
 from hmfdiff.analysis.relaxation_compare import (
     COMPARISON_COLUMNS,
+    band_lines,
     compare_relaxation,
     summary_lines,
+    with_kinetic_bands,
+    with_reference_md,
 )
 from hmfdiff.meanfield.equilibrium import ThermalState
 from hmfdiff.pipeline.io import atomic_path, read_dataset, write_dataset
@@ -19,6 +23,10 @@ log = get_logger("relaxation_comparison", sm.log[0])
 md = [read_dataset(p, required=["hist", "M_abs"]) for p in sm.input.md]
 controls = [read_dataset(p, required=["hist", "overflow"]) for p in sm.input.control]
 kinetic = [read_dataset(p, required=["f", "M0", "tau"]) for p in sm.input.kinetic]
+# the kinetic times' numerical uncertainty and N-body times of runs not rebuilt here (reference
+# copies under docs/reference, where the checkout has them)
+table = read_uncertainty_table(sm.input.uncertainty[0]) if sm.input.uncertainty else []
+references = [(p, open(p).read()) for p in sm.input.reference_md]
 rows, lines = [], []
 for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
     state = state_from_dataset(
@@ -30,9 +38,12 @@ for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
     ds, case_rows, summary = compare_relaxation(
         ens, kin, state, ThermalState(u=state.u), controls=ctrl
     )
+    ds = with_kinetic_bands(ds, kin, table)
+    for path, text in references:
+        ds = with_reference_md(ds, md_times_from_summary(text, case), path)
     write_dataset(ds, out, {"cases": sm.params.cases}, case=case)
     rows += case_rows
-    lines += summary_lines(summary)
+    lines += summary_lines(summary) + band_lines(ds)
 with atomic_path(sm.output.table) as tmp, open(tmp, "w", newline="") as fh:
     w = csv.DictWriter(fh, fieldnames=COMPARISON_COLUMNS)
     w.writeheader()

@@ -19,12 +19,15 @@ histograms broadened), and t_R is also given with the deficit measured against i
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import xarray as xr
 
 from ..meanfield.equilibrium import thermal_M0_from_energy
 from ..pipeline.layouts import variable
 from ..pipeline.layouts.relaxation_md import MEASURE_NAMES
+from .kinetic_uncertainty import time_band
 from .relaxation_md import (
     PHASE_VOLUME_PER_JBAR,
     interpolate_in_time,
@@ -36,7 +39,14 @@ from .relaxation_md import (
     state_bin_fractions,
 )
 
-__all__ = ["compare_relaxation", "summary_lines", "COMPARISON_COLUMNS"]
+__all__ = [
+    "compare_relaxation",
+    "summary_lines",
+    "COMPARISON_COLUMNS",
+    "with_kinetic_bands",
+    "with_reference_md",
+    "band_lines",
+]
 
 N_GROUPS = 10  # groups of realisations for jackknife errors
 
@@ -579,4 +589,78 @@ def summary_lines(summary):
         f"  exponent of t_R = A N^alpha: alpha = {summary['exponent']:.3f} +- "
         f"{summary['exponent_err']:.3f} (kinetic theory at order 1/N: alpha = 1)"
     )
+    return out
+
+
+def with_kinetic_bands(ds, kinetic, rows):
+    """`ds` (a comparison dataset) with tau_relax_coarse_{eq}_band: the numerical uncertainty
+    of each kinetic time from the table `rows` (`kinetic_uncertainty.time_band`; NaN where the
+    table does not apply to the evolution)."""
+    ds = ds.copy()
+    case = ds.attrs["case"]
+    for eq, kds in kinetic.items():
+        key = f"tau_relax_coarse_{eq}"
+        if key not in ds:
+            continue
+        settings = json.loads(kds.attrs["settings"]) if "settings" in kds.attrs else {}
+        band = time_band(rows, case, eq, settings, "tau_R_coarse", float(ds[key]))
+        low, high, rel_g, rel_h = band if band is not None else (np.nan,) * 4
+        ds[f"{key}_band"] = variable(
+            ("bound",),
+            [low, high],
+            "time / N",
+            f"numerical uncertainty of {key}: from the default grid's value towards 1.5 times "
+            "its nodes and towards harmonics n_max = l_max = 8, both added "
+            "(docs/reference/kinetic_time_uncertainty.csv; NaN: the table does not apply)",
+        )
+        ds[f"{key}_band"].attrs.update(rel_grid=rel_g, rel_harmonics=rel_h)
+    return ds
+
+
+def with_reference_md(ds, times, source):
+    """`ds` with the N-body relaxation times {N: (t_R, error)} of a run not rebuilt here (a
+    reference copy: `source`), at the N that `ds` does not have itself."""
+    ds = ds.copy()
+    own = {int(n) for n in ds["N"].values}
+    ns = sorted(n for n in times if n not in own)
+    if not ns:
+        return ds
+    coord = {"N_reference": variable(("N_reference",), ns, "1", "number of particles")}
+    ds = ds.assign_coords(coord)
+    ds["t_relax_md_reference"] = variable(
+        ("N_reference",),
+        [times[n][0] for n in ns],
+        "time",
+        f"N-body relaxation time t_R (entropy deficit / e) of a run not rebuilt by this "
+        f"configuration: reference copy {source}",
+    )
+    ds["t_relax_md_reference_err"] = variable(
+        ("N_reference",),
+        [times[n][1] for n in ns],
+        "time",
+        "jackknife error of t_relax_md_reference",
+    )
+    return ds
+
+
+def band_lines(ds):
+    """Summary lines for the kinetic times' bands of `ds` (from `with_kinetic_bands`)."""
+    out = []
+    for name in ds.data_vars:
+        if not name.endswith("_band"):
+            continue
+        low, high = (float(v) for v in ds[name].values)
+        eq = name[len("tau_relax_coarse_") : -len("_band")]
+        if np.isfinite(low):
+            a = ds[name].attrs
+            out.append(
+                f"  {eq}: tau_R^coarse = {float(ds[name[:-5]]):.4g}, numerical uncertainty "
+                f"[{low:.4g}, {high:.4g}] (grid x1.5: {a['rel_grid']:+.2%}, n_max 8: "
+                f"{a['rel_harmonics']:+.2%}; docs/reference/kinetic_time_uncertainty.csv)"
+            )
+        else:
+            out.append(
+                f"  {eq}: no numerical uncertainty band (docs/reference/"
+                "kinetic_time_uncertainty.csv is absent or for other settings)"
+            )
     return out

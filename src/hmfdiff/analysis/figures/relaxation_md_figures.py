@@ -133,9 +133,20 @@ def fig12_relaxation_md(inputs, pdf, png):
     save_figure(fig, pdf, png, inputs, "Fig. 12: N-body relaxation against the kinetic equations")
 
 
+def _band(ds, key):
+    """(low, high) of the kinetic time `key`'s numerical uncertainty, or None."""
+    name = f"{key}_band"
+    if name not in ds:
+        return None
+    low, high = (float(v) for v in ds[name].values)
+    return (low, high) if np.isfinite(low) and np.isfinite(high) else None
+
+
 def fig13_relaxation_time(inputs, pdf, png):
-    """The MD relaxation time per particle t_R/N against N (log N) with the fitted power law,
-    and the kinetic predictions tau_R^coarse (order 1/N: independent of N)."""
+    """The MD relaxation time per particle t_R/N against N (log N) with the fitted power law
+    (and the times of runs not rebuilt here, from reference copies, open diamonds), and the
+    kinetic predictions tau_R^coarse (order 1/N: independent of N) with their numerical
+    uncertainty (grid and harmonics, shaded)."""
     cases = inputs["relaxation_comparison"]
     fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases), 4), squeeze=False)
     titles = []
@@ -163,12 +174,27 @@ def fig13_relaxation_time(inputs, pdf, png):
                 lw=1,
                 label=rf"fit $t_R \propto N^{{{a:.2f}\pm{ae:.2f}}}$",
             )
+        if "t_relax_md_reference" in ds:
+            nr = ds["N_reference"].values.astype(float)
+            ax.errorbar(
+                nr,
+                ds["t_relax_md_reference"].values / nr,
+                ds["t_relax_md_reference_err"].values / nr,
+                fmt="D",
+                mfc="none",
+                color="C0",
+                label="MD(full), config/experiments (reference copy)",
+            )
+            n = np.concatenate((n, nr))
         for eq, label, c, ls in _KIN:
             key = f"tau_relax_coarse_{eq}"
             if key in ds and np.isfinite(float(ds[key])):
                 t_eq = float(ds[key])
                 tr_c = r"\tau_R^{\rm coarse}"
                 ax.axhline(t_eq, color=c, ls=ls, lw=1, label=rf"{label}: ${tr_c}={sci(t_eq)}$")
+                band = _band(ds, key)
+                if band is not None:
+                    ax.axhspan(*band, color=c, alpha=0.15, lw=0, label=f"{label}: grid, harmonics")
         ax.set_xscale("log")
         if not np.isfinite(tr).any():
             ax.text(
@@ -180,9 +206,11 @@ def fig13_relaxation_time(inputs, pdf, png):
                 va="center",
             )
         ax.set_xlim(n.min() / 2, n.max() * 2)
+        n = np.sort(n)
         ax.set_xticks(n, [f"{v:g}" for v in n])  # the sizes run, without crowded minor labels
         ax.minorticks_off()
         shown = [np.ravel(line.get_ydata()) for line in ax.get_lines()] + [tr + te]
+        shown += [np.asarray(_band(ds, f"tau_relax_coarse_{eq}") or [np.nan]) for eq, *_ in _KIN]
         top = np.nanmax(np.concatenate(shown)) if np.isfinite(np.concatenate(shown)).any() else 1
         ax.set_ylim(0.0, 1.2 * top)
         ax.set_xlabel(r"$N$")
@@ -275,6 +303,9 @@ def fig16_relaxation_rates(inputs, pdf, png):
         key = f"tau_relax_coarse_{eq}"
         if key in cmp_ and np.isfinite(float(cmp_[key])):
             ax.axhline(1.0 / float(cmp_[key]), color=c, ls=ls, lw=1, label=rf"{label} $1/\tau_R$")
+            band = _band(cmp_, key)
+            if band is not None:
+                ax.axhspan(1.0 / band[1], 1.0 / band[0], color=c, alpha=0.15, lw=0)
     ax.set_xscale("log")
     ax.set_xlim(n.min() / 2, max(n.max() * 2, ds["N"].values.max() * 1.5))
     ax.set_ylim(0.0, None)
