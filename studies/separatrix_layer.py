@@ -9,6 +9,7 @@ next to the separatrix.
     python studies/separatrix_layer.py --derivative=mixed grid CASE EQUATION [FACTOR ...]
     python studies/separatrix_layer.py uncertainty OUT.csv [CASE:EQUATION ...]
     python studies/separatrix_layer.py finite_n EQUATION [N ...]
+    python studies/separatrix_layer.py early CASE EQUATION FACTOR:EARLY_RTOL[:DLOG_OMEGA] ...
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
@@ -32,6 +33,10 @@ its default line is the pipeline's number): as they are, with 1.5 times the node
 harmonics n_max = l_max = 8.  It prints their lines and writes OUT.csv, the table from which
 results/relaxation_comparison draws the kinetic times' uncertainty bands (figures 13 and 16):
 docs/reference/kinetic_time_uncertainty.csv.
+
+`early`: the early window alone (tau_max = 0.6): dM0/dtau over tau <= 0.5 with the grid refined
+by FACTOR (or only its layer: DLOG_OMEGA given) and the early window's step tolerance
+EARLY_RTOL, to separate the time step's error from the grid's.
 
 `finite_n`: the finite-N layer model of the hot halo.  The N-body's separatrix is smeared over
 |kappa - 1| < delta(N) (docs/reference/separatrix_crossings.txt: delta_rate, the step of the
@@ -118,6 +123,21 @@ def layer_width(n, path=None):
                 a = float(words[words.index("a") + 2])
                 return a * float(n) ** b
     raise ValueError(f"{path}: no hot delta_rate line")
+
+
+def early(case, equation, specs):
+    """The `early` lines (see the module's docstring)."""
+    default = RelaxationSettings()
+    for spec in specs:
+        parts = spec.split(":")
+        factor, early_rtol = float(parts[0]), float(parts[1])
+        kw = {"n_nodes": int(round(default.n_nodes * factor)), "early_rtol": early_rtol}
+        kw["tau_max"] = 0.6
+        label = f"x{factor:g} early_rtol={early_rtol:g}"
+        if len(parts) > 2:
+            kw["dlog_omega"] = float(parts[2])
+            label += f" dlog_omega={float(parts[2]):g}"
+        print(line(case, equation, label, one(case, equation, **kw)), flush=True)
 
 
 def finite_n(equation, sizes):
@@ -285,6 +305,10 @@ def main(argv):
     if not argv:
         print(__doc__)
         return 2
+    if argv[0] == "early" and len(argv) >= 4 and argv[1] in CASES:
+        print(HEADER)
+        early(argv[1], argv[2], argv[3:])
+        return 0
     if argv[0] == "finite_n" and len(argv) >= 2:
         print(HEADER)
         finite_n(argv[1], [float(n) for n in argv[2:]] or [1e3, 2e3, 4e3, 8e3, 1.6e4, 6.4e4])

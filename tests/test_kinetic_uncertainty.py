@@ -12,7 +12,12 @@ import pytest
 import xarray as xr
 
 from hmfdiff.analysis import kinetic_uncertainty as ku
-from hmfdiff.analysis.relaxation_compare import band_lines, with_kinetic_bands, with_reference_md
+from hmfdiff.analysis.relaxation_compare import (
+    band_lines,
+    with_kinetic_bands,
+    with_layer_model,
+    with_reference_md,
+)
 from hmfdiff.kinetic.relaxation import RelaxationSettings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -153,3 +158,32 @@ def test_reference_table_is_for_the_reproductions_settings():
         ).as_dict()
         for key in ku.SETTINGS_COMPARED:
             assert r["settings"][key] == pytest.approx(expect[key]), (r["case"], key)
+
+
+LAYER_TEXT = """header line N=5 delta=1
+hot lenard_balescu  N=1000 delta=9.240e-03  854  132.38  138.402  1.90329e-03  9.88718e-04  3e-07  127
+hot lenard_balescu  N=4000 delta=4.685e-03  885  127.09  131.452  1.24972e-03  1.01131e-03  7e-07  123
+hot   landau  N=1000 delta=9.240e-03    854    60.00      62.500  1.0e-03   1.5e-04  3.1e-07     127
+ch2   landau  N=1000 delta=9.240e-03    854    60.00      62.500  1.0e-03   1.5e-04  3.1e-07     127
+"""
+
+
+def test_layer_model_times_are_read_and_drawn_only_beside_a_band():
+    times = ku.layer_model_times(LAYER_TEXT, "corehalo_hothalo")
+    assert times["lenard_balescu"] == {
+        1000: (9.24e-3, 138.402, 9.88718e-4),
+        4000: (4.685e-3, 131.452, 1.01131e-3),
+    }
+    assert times["landau"] == {1000: (9.24e-3, 62.5, 1.5e-4)}
+    assert ku.layer_model_times(LAYER_TEXT, "corehalo_ch2") == {}
+    ds, kin = _comparison(50.2)
+    with_band = with_kinetic_bands(ds, kin, [_row()])
+    out = with_layer_model(with_band, times, "f.txt")
+    assert out["tau_relax_coarse_landau_layer_model"].values.tolist() == [62.5]
+    assert out["N_layer_landau"].values.tolist() == [1000]
+    # no band for Lenard-Balescu here (no kinetic time at all): no model either
+    assert "tau_relax_coarse_lenard_balescu_layer_model" not in out
+    # a stale or absent table: no band, no model
+    assert "tau_relax_coarse_landau_layer_model" not in with_layer_model(
+        with_kinetic_bands(ds, kin, []), times, "f.txt"
+    )

@@ -54,6 +54,8 @@ def relaxation_md_runtime_min(case, n):
 
 #: the kinetic relaxation times' numerical uncertainty (studies/separatrix_layer.py uncertainty)
 KINETIC_UNCERTAINTY = "docs/reference/kinetic_time_uncertainty.csv"
+#: the finite-N layer model's times (studies/separatrix_layer.py finite_n)
+LAYER_MODEL = "docs/reference/finite_n_layer.txt"
 #: N-body relaxation times of experiments the default reproduction does not rebuild
 REFERENCE_MD_SUMMARIES = [
     "docs/reference/experiments/hothalo_large_n/relaxation_comparison_summary.txt"
@@ -72,6 +74,7 @@ def relaxation_comparison_inputs(wildcards=None):
         # reference copies, where the checkout has them (not in a bare copy of the workflow)
         "uncertainty": [p for p in [KINETIC_UNCERTAINTY] if os.path.exists(p)],
         "reference_md": [p for p in REFERENCE_MD_SUMMARIES if os.path.exists(p)],
+        "layer_model": [p for p in [LAYER_MODEL] if os.path.exists(p)],
     }
 
 

@@ -4,13 +4,18 @@ evolutions (results/relaxation_comparison.csv, _summary.txt, relaxation_comparis
 import csv
 import os
 
-from hmfdiff.analysis.kinetic_uncertainty import md_times_from_summary, read_uncertainty_table
+from hmfdiff.analysis.kinetic_uncertainty import (
+    layer_model_times,
+    md_times_from_summary,
+    read_uncertainty_table,
+)
 from hmfdiff.analysis.relaxation_compare import (
     COMPARISON_COLUMNS,
     band_lines,
     compare_relaxation,
     summary_lines,
     with_kinetic_bands,
+    with_layer_model,
     with_reference_md,
 )
 from hmfdiff.meanfield.equilibrium import ThermalState
@@ -27,6 +32,7 @@ kinetic = [read_dataset(p, required=["f", "M0", "tau"]) for p in sm.input.kineti
 # copies under docs/reference, where the checkout has them)
 table = read_uncertainty_table(sm.input.uncertainty[0]) if sm.input.uncertainty else []
 references = [(p, open(p).read()) for p in sm.input.reference_md]
+layer_models = [(p, open(p).read()) for p in sm.input.layer_model]
 rows, lines = [], []
 for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
     state = state_from_dataset(
@@ -41,6 +47,8 @@ for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
     ds = with_kinetic_bands(ds, kin, table)
     for path, text in references:
         ds = with_reference_md(ds, md_times_from_summary(text, case), path)
+    for path, text in layer_models:
+        ds = with_layer_model(ds, layer_model_times(text, case), path)
     write_dataset(ds, out, {"cases": sm.params.cases}, case=case)
     rows += case_rows
     lines += summary_lines(summary) + band_lines(ds)

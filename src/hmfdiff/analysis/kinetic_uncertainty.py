@@ -33,6 +33,7 @@ __all__ = [
     "read_uncertainty_table",
     "time_band",
     "md_times_from_summary",
+    "layer_model_times",
 ]
 
 #: relative difference between an evolution's time and the table's above which the table is
@@ -134,4 +135,25 @@ def md_times_from_summary(text, case):
         m = _MD_LINE.match(line)
         if m and current == case:
             out[int(m.group(1))] = (float(m.group(2)), float(m.group(3)))
+    return out
+
+
+#: the finite-N layer model's case in studies/separatrix_layer.py finite_n
+LAYER_MODEL_CASES = {"hot": "corehalo_hothalo"}
+_LAYER_LINE = re.compile(
+    r"^(\w+)\s+(landau|lenard_balescu)\s+N=(\d+)\s+delta=([0-9.eE+-]+)\s+(\d+)\s+([0-9.eE+-]+|nan)"
+    r"\s+([0-9.eE+-]+|nan)\s+([0-9.eE+-]+|nan)\s+([0-9.eE+-]+|nan)"
+)
+
+
+def layer_model_times(text, case):
+    """{equation: {N: (delta, tau_R^coarse, dM0/dtau early)}} of `case` from the output of
+    `studies/separatrix_layer.py finite_n` (docs/reference/finite_n_layer.txt)."""
+    out = {}
+    for line in text.splitlines():
+        m = _LAYER_LINE.match(line)
+        if not m or LAYER_MODEL_CASES.get(m.group(1)) != case:
+            continue
+        delta, tau_coarse, early = float(m.group(4)), float(m.group(7)), float(m.group(9))
+        out.setdefault(m.group(2), {})[int(m.group(3))] = (delta, tau_coarse, early)
     return out

@@ -46,6 +46,7 @@ __all__ = [
     "with_kinetic_bands",
     "with_reference_md",
     "band_lines",
+    "with_layer_model",
 ]
 
 N_GROUPS = 10  # groups of realisations for jackknife errors
@@ -640,6 +641,36 @@ def with_reference_md(ds, times, source):
         "time",
         "jackknife error of t_relax_md_reference",
     )
+    return ds
+
+
+def with_layer_model(ds, times, source):
+    """`ds` with the finite-N layer model's tau_R^coarse {equation: {N: (delta, tau, rate)}}
+    (`kinetic_uncertainty.layer_model_times`), for the equations whose kinetic time has its
+    uncertainty band (the band's table and the model's runs are of the same code and settings:
+    where the band is stale or absent, so is the model)."""
+    ds = ds.copy()
+    for eq, by_n in times.items():
+        band = f"tau_relax_coarse_{eq}_band"
+        if band not in ds or not np.isfinite(ds[band].values).all() or not by_n:
+            continue
+        ns = sorted(by_n)
+        dim = f"N_layer_{eq}"
+        ds = ds.assign_coords({dim: variable((dim,), ns, "1", "number of particles")})
+        ds[f"layer_delta_{eq}"] = variable(
+            (dim,),
+            [by_n[n][0] for n in ns],
+            "1",
+            "width delta(N) in kappa of the N-body's separatrix layer (docs/reference/"
+            "separatrix_crossings.txt), the layer model's innermost cells",
+        )
+        ds[f"tau_relax_coarse_{eq}_layer_model"] = variable(
+            (dim,),
+            [by_n[n][1] for n in ns],
+            "time / N",
+            f"tau_R^coarse of the {eq} equation with the separatrix layer |kappa - 1| < "
+            f"delta(N) mixed (one cell a side): the finite-N layer model's t_R/N ({source})",
+        )
     return ds
 
 

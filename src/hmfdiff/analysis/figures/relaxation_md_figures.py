@@ -195,6 +195,18 @@ def fig13_relaxation_time(inputs, pdf, png):
                 band = _band(ds, key)
                 if band is not None:
                     ax.axhspan(*band, color=c, alpha=0.15, lw=0, label=f"{label}: grid, harmonics")
+                model = f"{key}_layer_model"
+                if model in ds:
+                    ax.plot(
+                        ds[f"N_layer_{eq}"].values,
+                        ds[model].values,
+                        color=c,
+                        ls=ls,
+                        marker="v",
+                        ms=4,
+                        lw=0.8,
+                        label=rf"{label}, layer $|\kappa-1|<\delta(N)$ mixed",
+                    )
         ax.set_xscale("log")
         if not np.isfinite(tr).any():
             ax.text(
