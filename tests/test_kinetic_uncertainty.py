@@ -161,8 +161,8 @@ def test_reference_table_is_for_the_reproductions_settings():
 
 
 LAYER_TEXT = """header line N=5 delta=1
-hot lenard_balescu  N=1000 delta=9.240e-03  854  132.38  138.402  1.90329e-03  9.88718e-04  3e-07  127
-hot lenard_balescu  N=4000 delta=4.685e-03  885  127.09  131.452  1.24972e-03  1.01131e-03  7e-07  123
+hot lenard_balescu  N=1000 delta=9.240e-03  854  132.38  138.402  1.90329e-03  9.88718e-04  3e-7 1
+hot lenard_balescu  N=4000 delta=4.685e-03  885  127.09  131.452  1.24972e-03  1.01131e-03  7e-7 1
 hot   landau  N=1000 delta=9.240e-03    854    60.00      62.500  1.0e-03   1.5e-04  3.1e-07     127
 ch2   landau  N=1000 delta=9.240e-03    854    60.00      62.500  1.0e-03   1.5e-04  3.1e-07     127
 """
