@@ -59,6 +59,7 @@ __all__ = [
     "homogeneous_roots",
     "lorentzian_peak",
     "continued_zeros",
+    "fit_real_axis",
     "fermi_edge_singularities",
     "ModeReport",
     "least_damped_modes",
@@ -375,7 +376,10 @@ class ModeReport:
         return self.gamma / self.omega0 if self.omega0 > 0 else np.nan
 
 
-def _fit(fun, w_lo, w_hi, n, tol, max_terms):
+def fit_real_axis(fun, w_lo, w_hi, n, tol=1e-10, max_terms=150):
+    """AAA fit of fun (eps on real frequencies, Landau boundary value from above) sampled at n
+    uniform points on [w_lo, w_hi] and mirrored with fun(-omega) = conj fun(omega), the
+    reality of the response.  Returns (approximant, omega, fun(omega)) on the positive side."""
     w = np.linspace(w_lo, w_hi, n)
     e = fun(w)
     z = np.concatenate([-w[::-1], w])
@@ -434,7 +438,7 @@ def least_damped_modes(
         )
         return zs[ok]
 
-    r, w, e = _fit(fun, w_lo, w_max * Om0, n_omega, tol, max_terms)
+    r, w, e = fit_real_axis(fun, w_lo, w_max * Om0, n_omega, tol, max_terms)
     zs = credible(r, w_max * Om0)
     fit_error = float(r.errors[-1] / np.max(np.abs(e)))
     # the other side: the fit against the direct quadrature above the real axis
@@ -446,7 +450,7 @@ def least_damped_modes(
     spreads = np.zeros(zs.size)
     var_out = []
     for dens, rng, tolf in variants:
-        rv, _, _ = _fit(
+        rv, _, _ = fit_real_axis(
             fun, w_lo, rng * w_max * Om0, int(round(dens * n_omega)), tol * tolf, max_terms
         )
         zv = credible(rv, rng * w_max * Om0)
