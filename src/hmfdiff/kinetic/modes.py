@@ -343,8 +343,8 @@ class ModeReport:
     spread: max distance of the matching zero over the variant fits (grid density, range,
     tolerance), or inf if some variant has no zero within `match` of it;
     zeros: all credible zeros of the base fit (Re >= 0, least damped first), spreads: the
-    largest distance of each to the nearest zero of a variant fit (stable: spread below
-    `stable` times its depth and below match Omega_0);
+    largest distance of each to the nearest zero of a variant fit, stable_mask: which are
+    stable (spread below `stable` times its depth and below match Omega_0);
     nearest_pole: the pole of the base fit nearest the mode (a zero next to a pole of the
     continued eps, such as the double pole of a Fermi edge, may leave the real axis unmoved);
     peak_omega, peak_amp, half_width: the real-axis Lorentzian (`lorentzian_peak`);
@@ -360,6 +360,7 @@ class ModeReport:
     spread: float
     zeros: np.ndarray
     spreads: np.ndarray
+    stable_mask: np.ndarray
     nearest_pole: complex
     peak_omega: float
     peak_amp: float
@@ -482,6 +483,7 @@ def least_damped_modes(
         spread=spread,
         zeros=zs,
         spreads=spreads,
+        stable_mask=ok,
         nearest_pole=complex(pz[np.argmin(np.abs(pz - z0))])
         if pz.size and np.isfinite(z0)
         else complex(np.nan, np.nan),
