@@ -136,7 +136,7 @@ def mode_row(name, comp, state, rep, n_uhp):
         f"{rep.gamma:.5f}",
         f"{rep.quality:.4f}" if np.isfinite(rep.quality) else "nan",
         f"{rep.spread:.1e}",
-        f"{abs(complex(rep.omega0, -rep.gamma) - rep.nearest_pole):.4f}",
+        f"{np.abs(np.complex128(complex(rep.omega0, -rep.gamma) - rep.nearest_pole)):.4f}",
         f"{rep.peak_omega:.4f}",
         f"{rep.peak_amp:.4g}",
         f"{rep.half_width:.5f}",

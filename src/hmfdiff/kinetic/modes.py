@@ -466,6 +466,7 @@ def least_damped_modes(
     z0 = zs[ok][0] if np.any(ok) else complex(np.nan, np.nan)
     spread = float(spreads[ok][0]) if np.any(ok) else np.nan
     pz = r.poles()
+    pz = pz[np.isfinite(pz) & (np.abs(pz) < 1e6 * Om0)]
 
     # real-axis Lorentzian, refined on a fine grid round the peak of the coarse one
     amp = 1.0 / np.abs(e) ** 2
