@@ -62,8 +62,9 @@ HEADER = """\
 #   that excludes its neutral rotation) mirrored with eps(-w) = conj eps(w), AAA tol 1e-10.
 #   A zero is kept when it is no Froissart doublet, lies within Re <= 3.6 Omega_0 and depth
 #   <= 0.5 Omega_0, and refits (1.37 x the grid density; 0.75 x and 1.5 x the range; 10 x the
-#   tolerance) reproduce it to 5% of its depth: the zeros strung down from the branch points
-#   omega = l Omega_0 of the continued eps (bottom of the well) fail this and are dropped.
+#   tolerance) reproduce it to 5% of its depth, and no pole of the fit lies within a tenth of
+#   its depth: the pole-zero strings hanging down from the branch points omega = l Omega_0 of
+#   the continued eps (bottom of the well) fail this and are dropped.
 #
 # Columns of the mode table:
 #   state, comp      state and component (cc: even/cos response, ss: odd/sin response)
@@ -77,7 +78,7 @@ HEADER = """\
 #   hwhm             its half width at half maximum (= gamma for an isolated weakly damped mode)
 #   fit_err          max |eps - r| / max |eps| of the AAA fit on its sample
 #   uhp_err          max |r - eps| above the real axis (Im w = 0.02 ... 0.1 Omega_0) against the
-#                    direct quadrature DielectricTensor.upper_half_plane
+#                    direct quadrature DielectricTensor.upper_half_plane (4 x its panels)
 #   n_uhp            zeros in the upper half plane (argument principle, kinetic.stability)
 """
 
