@@ -1000,9 +1000,9 @@ CLAIMS = [
             "rtol 1e-3 after the window",
             '"grid x1.5" (1.14222e-04, 1.29642e-04)',
         ],
-        "the Landau rate is 1.14222e-04 at the reproduction's rtol = 1e-3 (`separatrix_layer.txt`), "
-        "1.49813e-04 and 1.54006e-04 with the window's steps held to 1e-5 and 1e-6. The window "
-        "now has its own tolerance, `early_rtol` = 1e-5.",
+        "the Landau rate is 1.14222e-04 at the reproduction's rtol = 1e-3 "
+        "(`separatrix_layer.txt`), 1.49813e-04 and 1.54006e-04 with the window's steps held to "
+        "1e-5 and 1e-6. The window now has its own tolerance, `early_rtol` = 1e-5.",
     ),
     C(
         F,
