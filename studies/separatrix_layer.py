@@ -149,18 +149,7 @@ def finite_n(equation, sizes):
         delta = layer_width(n)
         settings = RelaxationSettings(equation=equation, **{**base, "layer_eta_min": delta})
         state = make_state(spec)
-        t0 = time.perf_counter()
-        out = evolve(state, settings)
-        r = {
-            "tau_fine": relaxation_times(out)[0],
-            "tau_coarse": coarse_time(out, state),
-            "dM0_initial": float(out["dM0dtau_initial"]),
-            "dM0_early": float(out["dM0dtau_early"]),
-            "nodes": int(out["eta"].size),
-            "thermalised": out["thermalised"],
-            "du": float(np.max(np.abs(out["u"] - out["u"][0]))),
-            "wall": time.perf_counter() - t0,
-        }
+        r = measured(state, settings)
         print(line("hot", equation, f"N={int(n)} delta={delta:.3e}", r), flush=True)
 
 
@@ -191,18 +180,7 @@ def uncertainty(out_path, pairs):
             spec, _ = CASES[case]
             settings = RelaxationSettings(equation=equation, **kw)
             state = make_state(spec)
-            t0 = time.perf_counter()
-            out = evolve(state, settings)
-            r = {
-                "tau_fine": relaxation_times(out)[0],
-                "tau_coarse": coarse_time(out, state),
-                "dM0_initial": float(out["dM0dtau_initial"]),
-                "dM0_early": float(out["dM0dtau_early"]),
-                "nodes": int(out["eta"].size),
-                "thermalised": out["thermalised"],
-                "du": float(np.max(np.abs(out["u"] - out["u"][0]))),
-                "wall": time.perf_counter() - t0,
-            }
+            r = measured(state, settings)
             print(line(case, equation, labels[suffix], r), flush=True)
             if suffix == "":
                 row["settings"] = json.dumps(settings.as_dict(), sort_keys=True, default=list)
@@ -230,6 +208,11 @@ def one(case, equation, **kw):
     spec, kappa_max = CASES[case]
     state = make_state(spec)
     settings = RelaxationSettings(equation=equation, kappa_max=kappa_max, **{**BASE, **kw})
+    return measured(state, settings)
+
+
+def measured(state, settings):
+    """One evolution and what the table prints of it."""
     t0 = time.perf_counter()
     out = evolve(state, settings)
     wall = time.perf_counter() - t0
