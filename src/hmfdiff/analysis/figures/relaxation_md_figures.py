@@ -148,7 +148,7 @@ def fig13_relaxation_time(inputs, pdf, png):
     kinetic predictions tau_R^coarse (order 1/N: independent of N) with their numerical
     uncertainty (grid and harmonics, shaded)."""
     cases = inputs["relaxation_comparison"]
-    fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases), 4), squeeze=False)
+    fig, axes = plt.subplots(1, len(cases), figsize=(8 * len(cases), 4.2), squeeze=False)
     titles = []
     for ax, ds in zip(axes[0], cases, strict=True):
         n = ds["N"].values.astype(float)
@@ -227,7 +227,7 @@ def fig13_relaxation_time(inputs, pdf, png):
         ax.set_ylim(0.0, 1.2 * top)
         ax.set_xlabel(r"$N$")
         ax.set_ylabel(r"relaxation time per particle $t_R/N$ (coarse-grained)")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the data
         titles.append(f"{ds.attrs.get('case', '')}: entropy deficit / e")
     tag_panels(axes, titles)
     fig.tight_layout()
