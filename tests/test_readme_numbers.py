@@ -288,10 +288,67 @@ FNL_L = [
 ]
 CROSS = "separatrix_crossings.txt"
 MODES = "damped_modes.txt"
+MARG = "experiments/hothalo_marginal/"
 SEEDS00 = "independent_seeds_u0.0_full.txt"
 PROP = "vs propagated Lenard-Balescu"
 
 CLAIMS = [
+    C(
+        F,
+        MARG + "corehalo_hothalo_summary.txt",
+        ["/lenard_balescu 1.91 +- 0.19", "/lenard_balescu 1.07 +- 0.17"],
+        "(the hot halo) 1.91 +- 0.19 and 1.07 +- 0.17;",
+    ),
+    C(
+        F,
+        MARG + "corehalo_hothalo_b20_summary.txt",
+        ["/lenard_balescu 1.95 +- 0.11", "/lenard_balescu 1.36 +- 0.10"],
+        "1.95 +- 0.11 and 1.36 +- 0.10;",
+    ),
+    C(
+        F,
+        MARG + "corehalo_hothalo_b10_summary.txt",
+        ["/lenard_balescu 1.43 +- 0.09", "/lenard_balescu 1.23 +- 0.08"],
+        "1.43 +- 0.09 and 1.23 +- 0.08;",
+    ),
+    C(
+        F,
+        MARG + "corehalo_warmcore_summary.txt",
+        ["/lenard_balescu 1.20 +- 0.07", "/lenard_balescu 1.08 +- 0.07"],
+        "(the warm core) 1.20 +- 0.07 and 1.08 +- 0.07.",
+    ),
+    C(
+        F,
+        MODES,
+        [
+            "beta1=40 cc 0.7263 0.8522 1.58624 0.00742 0.0047 2.0e-11 0.0521 1.5849 23.8",
+            "beta1=20 cc 0.7135 0.8447 1.54749 0.02514 0.0162 6.6e-10 0.0816 1.5391 5.574",
+        ],
+        "(23.8 at beta1=40 against 5.574 at beta1=20",
+    ),
+    C(
+        F,
+        HOT,
+        ["/lenard_balescu 2.40 +- 0.23", "N = 1000"],
+        "gave the hot halo 2.40 +- 0.23 at N = 1000;",
+    ),
+    C(
+        F,
+        MARG + "corehalo_hothalo_summary.txt",
+        ["lenard_balescu: dS/tau* = 0.005884"],
+        "kinetic early entropy change is 0.005884,",
+    ),
+    C(F, HOT, ["lenard_balescu: dS/tau* = 0.004844"], "that run's 0.004844.)"),
+    C(
+        F,
+        CROSS,
+        [
+            "2.054e-03(7.495e-05)",
+            "thermal 32000 4 2000",
+            "#   thermal delta_rate   b = -0.509 +- 0.019",
+        ],
+        "is 2.054e-03 at N = 32000 and falls as N^(-0.509 +- 0.019)",
+    ),
     # ---------------------------------------------- findings: the separatrix at finite N
     C(
         F,
@@ -1472,6 +1529,12 @@ CONTEXT = [
     ("docs/findings.md", "order-1/N^2 collision terms"),
     ("docs/findings.md", "its width scales as N^-1/2"),
     ("docs/findings.md", "cannot yet tell from N^-1/2"),
+    ("docs/findings.md", "relative size N^-1/2"),
+    ("docs/findings.md", "beta1 = 40 (the hot halo)"),
+    ("docs/findings.md", "beta1 = 20 1.95"),
+    ("docs/findings.md", "beta1 = 10 1.43"),
+    ("docs/findings.md", "beta1 = 5 (the warm core)"),
+    ("docs/findings.md", "from beta1 = 5 to 20,"),
     ("docs/findings.md", "the state's M0 within 1e-6"),
     ("docs/findings.md", "the harmonics n_max = l_max = 8;"),
     ("docs/findings.md", "with 1.5 times the nodes, and"),
