@@ -3,6 +3,7 @@ evolutions (results/relaxation_comparison.csv, _summary.txt, relaxation_comparis
 
 import csv
 import os
+from pathlib import Path
 
 from hmfdiff.analysis.kinetic_uncertainty import (
     layer_model_times,
@@ -31,8 +32,8 @@ kinetic = [read_dataset(p, required=["f", "M0", "tau"]) for p in sm.input.kineti
 # the kinetic times' numerical uncertainty and N-body times of runs not rebuilt here (reference
 # copies under docs/reference, where the checkout has them)
 table = read_uncertainty_table(sm.input.uncertainty[0]) if sm.input.uncertainty else []
-references = [(p, open(p).read()) for p in sm.input.reference_md]
-layer_models = [(p, open(p).read()) for p in sm.input.layer_model]
+references = [(p, Path(p).read_text()) for p in sm.input.reference_md]
+layer_models = [(p, Path(p).read_text()) for p in sm.input.layer_model]
 rows, lines = [], []
 for case, out in zip(sm.params.cases, sm.output.datasets, strict=True):
     state = state_from_dataset(
