@@ -277,3 +277,55 @@ def test_fig13_draws_the_bands_and_the_reference_points(monkeypatch):
         assert ax.get_xlim()[1] >= 16000
     finally:
         rmf.plt.close(drawn[0])
+
+
+def test_fig16_d_draws_the_reference_points_and_the_layer_model(monkeypatch):
+    """Panel (d) of figure 16 draws the N-body rate N/t_R of the runs not rebuilt
+    (`t_relax_md_reference`) beside the run's own, and the finite-N layer model's rate
+    1/tau_R^coarse(N) (`tau_relax_coarse_{eq}_layer_model` on `N_layer_{eq}`)."""
+    from hmfdiff.analysis.figures import relaxation_md_figures as rmf
+
+    drawn = []
+    monkeypatch.setattr(rmf, "save_figure", lambda fig, *a, **k: drawn.append(fig))
+    tau, sizes, initial = [0.0, 0.25, 0.5], [1000, 4000], ["state", "thermal"]
+    ones = np.ones((2, 2))
+    rates = xr.Dataset(
+        {
+            "dS_md": (("initial", "N", "tau"), np.zeros((2, 2, 3))),
+            "dS_md_err": (("initial", "N", "tau"), np.zeros((2, 2, 3))),
+            "entropy_rate_md": (("initial", "N"), 0.01 * ones),
+            "entropy_rate_md_err": (("initial", "N"), 0.001 * ones),
+            "current_md": (("initial", "N"), 0.005 * ones),
+            "current_md_err": (("initial", "N"), 0.001 * ones),
+        },
+        coords={"initial": initial, "N": sizes, "tau": tau},
+        attrs={"case": "hot", "tau_window": 0.5, "core_edge_jbar": 0.12},
+    )
+    cmp_ = xr.Dataset(
+        {
+            "t_relax_md": (("N",), [3.6e4, 1.68e5]),
+            "t_relax_md_err": (("N",), [4.5e3, 1.2e4]),
+            "tau_relax_coarse_lenard_balescu": ((), 120.0),
+            "t_relax_md_reference": (("N_reference",), [4.4e5, 1.1e6]),
+            "t_relax_md_reference_err": (("N_reference",), [2e4, 5e4]),
+            "tau_relax_coarse_lenard_balescu_layer_model": (
+                ("N_layer_lenard_balescu",),
+                [100.0, 80.0],
+            ),
+        },
+        coords={"N": sizes, "N_reference": [8000, 16000], "N_layer_lenard_balescu": [1000, 64000]},
+    )
+    rmf.fig16_relaxation_rates(
+        {"relaxation_rates": [rates], "relaxation_comparison": [cmp_]}, None, None
+    )
+    ax = drawn[0].axes[3]
+    try:
+        bars = [c for c in ax.containers if type(c).__name__ == "ErrorbarContainer"]
+        (ref,) = [b for b in bars if "reference" in b.get_label()]
+        np.testing.assert_allclose(ref.lines[0].get_ydata(), [8000 / 4.4e5, 16000 / 1.1e6])
+        (model,) = [line for line in ax.get_lines() if "layer" in line.get_label()]
+        np.testing.assert_allclose(model.get_xdata(), [1000, 64000])
+        np.testing.assert_allclose(model.get_ydata(), [0.01, 0.0125])
+        assert ax.get_xlim()[1] >= 64000
+    finally:
+        rmf.plt.close(drawn[0])

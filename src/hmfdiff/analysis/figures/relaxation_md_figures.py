@@ -301,6 +301,21 @@ def fig16_relaxation_rates(inputs, pdf, png):
     rate = n / cmp_["t_relax_md"].values
     err = rate * cmp_["t_relax_md_err"].values / cmp_["t_relax_md"].values
     ax.errorbar(n, rate, err, fmt="o", color="C3", label=r"N-body $N/t_R$")
+    n_all = n
+    if "t_relax_md_reference" in cmp_:  # the sizes an experiment ran (figure 13 draws them too)
+        nr = cmp_["N_reference"].values.astype(float)
+        tr = cmp_["t_relax_md_reference"].values
+        rr = nr / tr
+        ax.errorbar(
+            nr,
+            rr,
+            rr * cmp_["t_relax_md_reference_err"].values / tr,
+            fmt="D",
+            mfc="none",
+            color="C3",
+            label="N-body, config/experiments (reference copy)",
+        )
+        n_all = np.concatenate((n, nr))
     if not np.isfinite(rate).any():
         ax.text(
             0.5,
@@ -318,8 +333,21 @@ def fig16_relaxation_rates(inputs, pdf, png):
             band = _band(cmp_, key)
             if band is not None:
                 ax.axhspan(1.0 / band[1], 1.0 / band[0], color=c, alpha=0.15, lw=0)
+            model = f"{key}_layer_model"
+            if model in cmp_:
+                ax.plot(
+                    cmp_[f"N_layer_{eq}"].values,
+                    1.0 / cmp_[model].values,
+                    color=c,
+                    ls=ls,
+                    marker="v",
+                    ms=4,
+                    lw=0.8,
+                    label=rf"{label}, layer $|\kappa-1|<\delta(N)$ mixed",
+                )
+                n_all = np.concatenate((n_all, cmp_[f"N_layer_{eq}"].values.astype(float)))
     ax.set_xscale("log")
-    ax.set_xlim(n.min() / 2, max(n.max() * 2, ds["N"].values.max() * 1.5))
+    ax.set_xlim(n_all.min() / 2, max(n_all.max() * 2, ds["N"].values.max() * 1.5))
     ax.set_ylim(0.0, None)
     ax.set_xlabel(r"$N$")
     ax.set_ylabel(r"relaxation rate $N/t_R$ (per unit $t/N$)")
