@@ -1,0 +1,140 @@
+"""How fast do the finite-N departures from the order-1/N theory fall?  Their exponents in N,
+with errors, and whether N^-1/2 (a boundary layer of width N^-1/2 at the separatrix) or N^-1
+(the order-1/N^2 collision terms: a relative excess ~1/N) describes them.
+
+    python studies/finite_n_exponents.py > docs/reference/finite_n_exponents.txt
+
+Reads only reference files under docs/reference (no simulation; seconds):
+
+1. the hot halo's N-body relaxation against Lenard-Balescu: the rate excess
+   tau_R^coarse(LB) N / t_R - 1 at N = 1000, 2000, 4000 (relaxation_comparison_summary.txt) and
+   8000, 16000 (experiments/hothalo_large_n/relaxation_comparison_summary.txt), tau_R^coarse of
+   the present code from kinetic_time_uncertainty.csv (its uncertainty is common to every N: it
+   moves the amplitude, not the points against each other, and is not in the errors);
+2. MD(full) N D at the hot halo's core edge (bin kappa0 = 0.43) against the dressed theory,
+   the excess N D_MD / N D_LB - 1, if spectrum_scaling_hothalo.txt holds it;
+3. at u = 0, the deficit of the measured N D of the bin kappa0 = 1.039 below N D computed from
+   the MD's own measured spectrum, 1 - ratio (spectrum_diffusion_u0.0_full.txt; both sets of
+   seeds at N = 5e5 as separate points).
+
+Each excess is fitted as A (N/n_ref)^-a by weighted least squares on the excess itself
+(`hmfdiff.analysis.scaling.excess_power_law`), with the chi^2 of a = 1/5, 1/2 and 1 (amplitude
+refitted) and its p-value.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from hmfdiff.analysis.scaling import excess_power_law
+
+#: N^-1/5: the marginal-stability window (Yamaguchi & Barre 2026); N^-1/2: a boundary layer of
+#: width N^-1/2; N^-1: the order-1/N^2 collision terms (Fouvry, Bar-Or & Chavanis 2019)
+EXPONENTS = (0.2, 0.5, 1.0)
+REF = Path(__file__).resolve().parents[1] / "docs" / "reference"
+TR = re.compile(r"MD N = (\d+): t_R = ([0-9.e+]+) \+- ([0-9.e+]+)")
+
+
+def kinetic_tau(case="corehalo_hothalo", equation="lenard_balescu"):
+    with open(REF / "kinetic_time_uncertainty.csv") as fh:
+        for row in csv.DictReader(fh):
+            if row["case"] == case and row["equation"] == equation:
+                return float(row["tau_R_coarse"])
+    raise LookupError(f"{case} {equation}: not in kinetic_time_uncertainty.csv")
+
+
+def relaxation_times():
+    """(N, t_R, its error) of the hot halo's N-body ensembles, all five N."""
+    rows = []
+    for name in (
+        "relaxation_comparison_summary.txt",
+        "experiments/hothalo_large_n/relaxation_comparison_summary.txt",
+    ):
+        rows += [tuple(map(float, m)) for m in TR.findall((REF / name).read_text())]
+    return np.array(sorted(rows)).T
+
+
+def item_relaxation():
+    tau = kinetic_tau()
+    N, t, dt = relaxation_times()
+    ratio = tau * N / t
+    return N, ratio - 1, ratio * dt / t, f"tau_R^coarse(LB) N / t_R - 1, tau_R^coarse = {tau}"
+
+
+#: the header numbers the sets of runs, "(k) N = 2.5e5 ...", in the order of the result lines
+#: (whose own "N = 2e+05" is rounded to one digit)
+SETS = re.compile(r"\((\d)\) N = ([0-9.e+]+)")
+RESPONSE = re.compile(r"measured / from MD's spectrum ([0-9.]+) \+- ([0-9.]+)")
+
+
+def item_response():
+    text = (REF / "spectrum_diffusion_u0.0_full.txt").read_text()
+    header = "\n".join(line for line in text.splitlines() if line.startswith("#"))
+    sizes = [float(n) for _, n in SETS.findall(header)]
+    ratios = [(float(r), float(e)) for r, e in RESPONSE.findall(text)]
+    if len(sizes) != len(ratios):
+        raise ValueError(f"{len(sizes)} sets of runs in the header, {len(ratios)} results")
+    N, r, e = np.array(sorted((n, *x) for n, x in zip(sizes, ratios, strict=True))).T
+    return N, 1 - r, e, "1 - N D_MD / N D(MD's spectrum), u = 0, bin kappa0 = 1.039"
+
+
+CORE_EDGE = re.compile(r"N = ([0-9.e+]+) .*?N D_MD / N D_LB ([0-9.]+) \+- ([0-9.]+)")
+
+
+def item_core_edge():
+    path = REF / "spectrum_scaling_hothalo.txt"
+    if not path.exists():
+        return None
+    rows = [tuple(map(float, m)) for m in CORE_EDGE.findall(path.read_text())]
+    if len(rows) < 3:
+        return None
+    N, r, e = np.array(sorted(rows)).T
+    return N, r - 1, e, "N D_MD / N D_LB - 1, hot halo MD(full), bin kappa0 = 0.43"
+
+
+def report(N, y, err, label, n_ref, last=None):
+    """Print the points and the fit; `last`: also fit the largest `last` N alone."""
+    r = excess_power_law(N, y, err, exponents=EXPONENTS, n_ref=n_ref)
+    print(f"\n{label}")
+    print("         N       excess      error")
+    for n, v, s in zip(N, y, err, strict=True):
+        print(f"  {n:9.4g}  {v:11.4g}  {s:9.3g}")
+    print(
+        f"  fit excess = A (N/{n_ref:g})^-a: a = {r['a']:.3f} +- {r['a_err']:.3f}, "
+        f"A = {r['A']:.4g} +- {r['A_err']:.2g}, chi2 = {r['chi2']:.2f} on {r['dof']} dof"
+    )
+    for a, (c2, p) in r["fixed"].items():
+        print(f"  a = {a:g} (A refitted): chi2 = {c2:.2f} on {len(N) - 1} dof, p = {p:.3g}")
+    if last is not None and len(N) > last:
+        k = np.argsort(N)[-last:]
+        q = excess_power_law(N[k], y[k], err[k], exponents=EXPONENTS, n_ref=n_ref)
+        fixed = ", ".join(
+            f"a = {a:g}: chi2 = {c2:.2f}, p = {p:.3g}" for a, (c2, p) in q["fixed"].items()
+        )
+        print(
+            f"  the largest {last} N alone (N = {N[k][0]:g}-{N[k][-1]:g}): a = {q['a']:.3f} +- "
+            f"{q['a_err']:.3f}, chi2 = {q['chi2']:.2f} on {q['dof']} dof; {fixed}"
+        )
+    return r
+
+
+def main(argv):
+    if argv:
+        sys.exit(__doc__)
+    print("# python studies/finite_n_exponents.py (reads docs/reference only)")
+    report(*item_relaxation(), n_ref=1e4, last=3)
+    core = item_core_edge()
+    if core is not None:
+        report(*core, n_ref=1e4)
+    else:
+        print("\n(hot halo core edge: spectrum_scaling_hothalo.txt absent, not fitted)")
+    report(*item_response(), n_ref=1e6)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
