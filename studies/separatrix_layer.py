@@ -10,6 +10,7 @@ next to the separatrix.
     python studies/separatrix_layer.py uncertainty OUT.csv [CASE:EQUATION ...]
     python studies/separatrix_layer.py finite_n EQUATION [N ...]
     python studies/separatrix_layer.py early CASE EQUATION FACTOR:EARLY_RTOL[:DLOG_OMEGA] ...
+    python studies/separatrix_layer.py early_entropy CASE EQUATION
 
 CASE: ch2 (the paper's ch2*) or hot (the hot halo of figures 11-13); EQUATION: landau or
 lenard_balescu.  Each line is one evolution from the state to thermalisation (rtol = thermal_tol
@@ -38,6 +39,12 @@ docs/reference/kinetic_time_uncertainty.csv.
 by FACTOR (or only its layer: DLOG_OMEGA given) and the early window's step tolerance
 EARLY_RTOL, to separate the time step's error from the grid's.
 
+`early_entropy`: the kinetic change of the coarse-grained entropy over tau <= 0.5 per unit tau
+(dS/tau*, on the early-window ensembles' 40 J-bar bins up to kappa = 3, as
+results/relaxation_rates computes it) with the reproduction's settings, with 1.5 times the
+nodes, with n_max = l_max = 8, and with the window's steps at early_rtol = 1e-6: the numerical
+uncertainty of the kinetic value the N-body's early entropy change is divided by.
+
 `finite_n`: the finite-N layer model of the hot halo.  The N-body's separatrix is smeared over
 |kappa - 1| < delta(N) (docs/reference/separatrix_crossings.txt: delta_rate, the step of the
 random walk in kappa that gives the measured rate of family changes, 0.273 N^-0.490); the model
@@ -65,6 +72,7 @@ from hmfdiff.analysis.relaxation_md import (  # noqa: E402
     relaxation_time,
     state_bin_fractions,
 )
+from hmfdiff.analysis.relaxation_rates import entropy_from_histogram  # noqa: E402
 from hmfdiff.kinetic import relaxation  # noqa: E402
 from hmfdiff.kinetic.relaxation import RelaxationSettings, evolve  # noqa: E402
 from hmfdiff.meanfield import orbits  # noqa: E402
@@ -194,6 +202,39 @@ def uncertainty(out_path, pairs):
             w.writerows(rows)
 
 
+def early_entropy(case, equation):
+    """The `early_entropy` lines (see the module's docstring)."""
+    base = pipeline_settings(case)
+    if "flux_times" in base:
+        base["flux_times"] = tuple(float(t) for t in base["flux_times"])
+    spec, _ = CASES[case]
+    state = make_state(spec)
+    edges = np.linspace(0.0, float(orbits.rescaled_action(3.0, state.M0)), 41)
+    n_nodes = base.get("n_nodes", 600)
+    variants = [
+        ("pipeline", {}),
+        (f"grid x{GRID_CHECK:g}", {"n_nodes": int(round(n_nodes * GRID_CHECK))}),
+        (f"n_max={N_MAX_CHECK}", {"n_max": N_MAX_CHECK, "l_max": N_MAX_CHECK}),
+        ("early_rtol=1e-6", {"early_rtol": 1e-6}),
+    ]
+    head = f"{'case':5s} {'equation':15s} {'setting':>16s} {'tau*':>8s} {'dS/tau*':>11s}"
+    print(f"{head} {'wall/s':>7s}")
+    for label, kw in variants:
+        settings = RelaxationSettings(equation=equation, **{**base, **kw, "tau_max": 0.6})
+        t0 = time.perf_counter()
+        out = evolve(state, settings)
+        wall = time.perf_counter() - t0
+        tau = np.asarray(out["tau"])
+        P = kinetic_bin_fractions(out["jbar"], out["width"], out["f"], edges)
+        k = int(np.argmin(np.abs(tau - settings.early_window)))
+        S0, S1 = (entropy_from_histogram(P[i], edges, max(0.0, 1.0 - P[i].sum())) for i in (0, k))
+        rate = (S1 - S0) / tau[k]
+        print(
+            f"{case:5s} {equation:15s} {label:>16s} {tau[k]:8.6f} {rate:11.6g} {wall:7.0f}",
+            flush=True,
+        )
+
+
 def coarse_time(out, state):
     """tau_R^coarse: the coarse-grained entropy deficit on the ensembles' 40 J-bar bins up to
     J-bar(kappa = 3) at the state's M0 fallen by e (as `analysis.relaxation_compare`)."""
@@ -291,6 +332,9 @@ def main(argv):
     if argv[0] == "early" and len(argv) >= 4 and argv[1] in CASES:
         print(HEADER)
         early(argv[1], argv[2], argv[3:])
+        return 0
+    if argv[0] == "early_entropy" and len(argv) == 3 and argv[1] in CASES:
+        early_entropy(argv[1], argv[2])
         return 0
     if argv[0] == "finite_n" and len(argv) >= 2:
         print(HEADER)
