@@ -891,6 +891,19 @@ CLAIMS = [
         "pooled, 3.8 % against 3.5 %. Against the asymptotic theory the u = 0.2475 MD(full) line "
         "has 5.4 % (5.5 %)",
     ),
+    C(
+        F,
+        SEP,
+        [
+            "last dt: 1.999e-38 9.995e-39 4.997e-39 4.997e-39 3.998e-38 1.999e-38 1.999e-38 "
+            "1.599e-37 3.998e-38",
+            "converged: 0 1 1 1 1 1 1 0 0 1 1 1",
+            "ch2 landau layer_eta_min = 1e-32, 60 s of wall time",
+            "2.741e+02 1.370e+02 1.370e+02 2.854e+02",
+        ],
+        "fails to converge for steps above a few 1e-38, where at 1e-32 the steps grow past 100 "
+        "within a minute",
+    ),
     # ------------------------------------------------------------------ findings: early window
     C(
         F,
@@ -1710,7 +1723,8 @@ CONTEXT = [
     ("docs/findings.md", "(600 outer nodes,"),
     ("docs/findings.md", "to 1.5 times its nodes"),
     ("docs/findings.md", "with the grid stopping at |kappa - 1| = 1e-2, 1e-4, 1e-8, 1e-16, 1e-32"),
-    ("docs/findings.md", "(at 1e-64 the evolution was stopped unfinished)"),
+    ("docs/findings.md", "(at 1e-64 the evolution does not advance"),
+    ("docs/findings.md", "the default stops at 1e-16): the"),
     ("docs/findings.md", "**The initial rate** dM0/dtau at tau = 0 ("),
     ("docs/findings.md", "the chi^2 of a = 1/5, 1/2 and 1 with A refitted"),
     ("docs/findings.md", "a relative excess ~1/N (a = 1), the"),
