@@ -489,7 +489,8 @@ CLAIMS = [
         F,
         WARM,
         [
-            "N = 1000 (R = 512): dS/tau* = 0.009586 +- 0.00054 (/landau 0.97 +- 0.05, /lenard_balescu 1.20 +- 0.07"
+            "N = 1000 (R = 512): dS/tau* = 0.009586 +- 0.00054 (/landau 0.97 +- 0.05, "
+            "/lenard_balescu 1.20 +- 0.07"
         ],
         "whose N-body relaxation runs at 1.20 +- 0.07 times Lenard-Balescu's at N = 1000",
     ),
@@ -497,7 +498,8 @@ CLAIMS = [
         F,
         HOT,
         [
-            "N = 1000 (R = 512): dS/tau* = 0.01125 +- 0.0011 (/landau 0.99 +- 0.10, /lenard_balescu 1.91 +- 0.19"
+            "N = 1000 (R = 512): dS/tau* = 0.01125 +- 0.0011 (/landau 0.99 +- 0.10, "
+            "/lenard_balescu 1.91 +- 0.19"
         ],
         "against the hot halo's 1.91 +- 0.19, has none",
     ),
@@ -1005,9 +1007,9 @@ CLAIMS = [
             "hot lenard_balescu early_rtol=1e-6 0.500000 0.00589907",
             '"grid x1.5" has 1.5 times the nodes',
         ],
-        "the Lenard-Balescu dS/tau* is 0.00588426 with the reproduction's settings, 0.00596939 with "
-        "1.5 times the nodes, 0.00588495 with n_max = 8 and 0.00589907 with the window's steps at "
-        "1e-6, at most 1.4 % apart",
+        "the Lenard-Balescu dS/tau* is 0.00588426 with the reproduction's settings, "
+        "0.00596939 with 1.5 times the nodes, 0.00588495 with n_max = 8 and 0.00589907 with the "
+        "window's steps at 1e-6, at most 1.4 % apart",
         {"1.4": "(0.00596939 - 0.00588426) / 0.00588426 * 100"},
     ),
     # ------------------------------------------------------------------ findings: warm core
