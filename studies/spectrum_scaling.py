@@ -122,6 +122,40 @@ def _fmt(x, e):
     return f"{x:.4g} +- {e:.2g}"
 
 
+def excursion_nd(
+    kappa, nd, N, M0, jbar_lo, jbar_hi, density, lags, window, *, walkers=20000, dt=0.5, seed=0
+):
+    """N D that a fit of <dJ^2>(lag) over `window` reads for walkers that start in the bin
+    [jbar_lo, jbar_hi] (drawn with `density` of J-bar) and diffuse with the local
+    D(J) = nd(kappa(J)) / N (Ito, drift dD/dJ: the Fokker-Planck form d_t f = d_J (D d_J f) of a
+    Hamiltonian random forcing), nd tabulated at `kappa` on one orbit family: the bin's N D
+    without any dynamics beyond local quasi-linear diffusion, but with the particles' wandering
+    over a steep D(kappa) during the window.  Monte Carlo (seeded)."""
+    from hmfdiff.analysis.fits import fit_slope
+    from hmfdiff.meanfield import orbits
+
+    rng = np.random.default_rng(seed)
+    J_grid = orbits.action(kappa, M0)
+    D_grid = np.asarray(nd, dtype=float) / N
+    dD = np.gradient(D_grid, J_grid)
+    jb = np.linspace(jbar_lo, jbar_hi, 401)
+    cdf = np.cumsum(density(jb))
+    jb0 = np.interp(rng.uniform(0.0, cdf[-1], walkers), cdf, jb)
+    J = orbits.action(orbits.kappa_from_rescaled_action(jb0, M0), M0)
+    J0 = J.copy()
+    steps = np.rint(np.asarray(lags, dtype=float) / dt).astype(int)
+    out = np.zeros(steps.size)
+    lo, hi = J_grid[0], J_grid[-1]
+    for s in range(1, steps.max() + 1):
+        D = np.interp(J, J_grid, D_grid)
+        J = J + np.interp(J, J_grid, dD) * dt + np.sqrt(2.0 * D * dt) * rng.normal(size=J.size)
+        J = np.clip(J, lo, hi)
+        hit = steps == s
+        if hit.any():
+            out[hit] = np.mean((J - J0) ** 2)
+    return 0.5 * N * fit_slope(np.asarray(lags, dtype=float), out, window)[0]
+
+
 class Context:
     """What every size shares: the state, the fit settings, the bare and dressed tables, and
     their Welch-smoothed versions (one segment length for all sizes)."""
@@ -238,6 +272,17 @@ def size_result(folder, ctx):
         dj2 = quasilinear_dj2(hx, hy, rec.m_every, kq, M0, lag_fine, origins, n_max=N_MAX)
         qdj2.append(wq @ dj2)
     qdj2 = np.array(qdj2)  # (R, lag)
+    # the quasi-linear N D(kappa) in the MD's field (all realisations) on either side of the bin,
+    # for the walkers of `excursion_nd`
+    kp = np.linspace(max(k_lo - 0.15, 0.02), min(k_hi + 0.15, 0.97), 49)
+    prof = np.zeros((kp.size, lag.size))
+    for ds in data:
+        px, py = _slow_frame(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t], seg)
+        hx, hy = highpass(px, rec.m_every), highpass(py, rec.m_every)
+        prof += quasilinear_dj2(hx, hy, rec.m_every, kp, M0, lag_fine, origins, n_max=N_MAX)
+    nd_prof = 0.5 * N * fit_slope(lag, prof / n_seeds, window)[0]
+    nd_prof = np.maximum(nd_prof, 0.0)
+    a_model = excursion_nd(kp, nd_prof, N, M0, lo, hi, density, lag[lag <= window[1]], window)
 
     def estimator(idx):
         idx = np.asarray(idx, dtype=int)
@@ -275,6 +320,12 @@ def size_result(folder, ctx):
         f"(asymptotic, unsmoothed: c0 = {c0:.4g})\n"
         f"                field (bw)/(cw) {_fmt(est[-2], err[-2])}; response (a)/(bw) "
         f"{_fmt(est[-1], err[-1])}; (a)/(cw) {_fmt(est[0] / cw, err[0] / cw)}"
+    )
+    print(
+        f"  excursions: (am) N D of walkers diffusing from the bin with the quasi-linear D(kappa) "
+        f"of the MD's field (kappa {kp[0]:.3f}-{kp[-1]:.3f}), fitted like the MD: {a_model:.4g}; "
+        f"(am)/(bw) {a_model / est[-3]:.3f}; (a)/(am) {est[0] / a_model:.3f} +- "
+        f"{err[0] / a_model:.2g}"
     )
     if not ctx.profile_printed:
         ctx.profile_printed = True
