@@ -25,7 +25,13 @@ every quantity at once):
   (d) N S_x, N S_y averaged over the bands n Omega(kappa) swept by the bin (widened by the
       Welch resolution 4 pi / segment) and over four sub-bands of each, MD against dressed,
       and each harmonic's share of (c) and (b);
-and power-law fits against N (`separatrix_crossings.scaling_exponent`).
+  excursions: (am) walkers that start in the bin and diffuse with the quasi-linear N D(kappa)
+      of the MD's own field (`excursion_nd`), fitted like the MD: the part of (a)/(bw) that
+      is the particles' wandering over a steep D(kappa) during the fit window, with no
+      dynamics beyond local quasi-linear diffusion; and the rms kappa excursion of the bin's
+      particles against the e-folding length of the dressed D(kappa) across the bin;
+and power-law fits against N (`separatrix_crossings.scaling_exponent`).  Control: the deep
+core (--kappa0 0.25), where MD(full) follows the dressed theory.
 
 Two steps (one core each; `run` skips seed files already written):
 
