@@ -15,13 +15,17 @@ their mean only by 1 + 2 c^2 (K - 1)/K, c = sum_j w_j w_{j+n/2} / sum_j w_j^2 = 
 1.03 on the error; but the bath of an MD run is one finite set of orbits whose spectral lines
 recur in every segment, so its segments are not independent.)
 With one realisation the segment spread is used with that correction.
+
+`quasilinear_dj2` is the time-domain counterpart for diffusion: the <dJ^2>(t) that unperturbed
+orbits would accumulate in a measured field (quasi-linear response), with the finite-time
+kernel of an MD fit rather than a spectral window.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["welch_spectrum"]
+__all__ = ["welch_spectrum", "quasilinear_dj2"]
 
 
 def welch_spectrum(x, dt, segment_length):
@@ -58,3 +62,49 @@ def welch_spectrum(x, dt, segment_length):
     else:
         err = np.full_like(mean, np.nan)
     return omega, mean, err, R * K
+
+
+def quasilinear_dj2(dmx, dmy, dt, kappa, M0, lags, origins, n_max=8):
+    """<dJ^2>(lag) of orbits kappa on their unperturbed tori (angle w0 + Omega s, uniform w0)
+    driven by the measured field fluctuations dmx(s), dmy(s) sampled every dt: the quasi-linear
+    response to that field, realisation by realisation, with no spectral estimate in between.
+
+    dJ/dt = sum_n i n (c_n dMx + s_n dMy) e^{i n (w0 + Omega s)} (s_n = -i sigma_n;
+    `kinetic.spectrum`), so averaged over w0
+
+        <dJ^2>(t0, t) = sum_{n != 0} n^2 |A_n|^2 = 2 sum_{n=1}^{n_max} n^2 |A_n|^2,
+        A_n = int_{t0}^{t0 + t} (c_n dMx + s_n dMy) e^{i n Omega s} ds   (A_{-n} = conj(A_n)),
+
+    the integral a left Riemann sum over the samples.  Averaged over the time origins `origins`
+    (sample indices) for each lag in `lags` (in samples).  Its expectation tends to
+    2 N D t with N D of `kinetic.spectrum.diffusion_from_spectrum`, and equals
+    `kinetic.spectrum.windowed_diffusion`'s finite-time <dJ^2> for the field's true spectrum.
+
+    dmx, dmy: (..., T) arrays (leading axes, e.g. realisations, are kept); kappa: orbits (K,).
+    Returns (..., K, len(lags)), in the units of J^2 (for the field of N particles it is O(1/N)).
+    """
+    from ..meanfield import orbits
+    from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
+
+    dmx = np.asarray(dmx, dtype=float)
+    dmy = np.asarray(dmy, dtype=float)
+    if dmx.shape != dmy.shape:
+        raise ValueError(f"dmx {dmx.shape} and dmy {dmy.shape} must have one shape")
+    kappa = np.atleast_1d(np.asarray(kappa, dtype=float))
+    lags = np.asarray(lags, dtype=int)
+    origins = np.asarray(origins, dtype=int)
+    T = dmx.shape[-1]
+    if origins.min() < 0 or origins.max() + lags.max() > T:
+        raise ValueError("an origin plus a lag runs past the end of the series")
+    t = np.arange(T) * float(dt)
+    Om = orbits.frequency(kappa, float(M0))
+    out = np.zeros(dmx.shape[:-1] + (kappa.size, lags.size))
+    for n in range(1, int(n_max) + 1):
+        c = cos_coefficient(n, kappa)
+        s = -1j * sin_coefficient_imag(n, kappa)
+        phase = np.exp(1j * n * np.multiply.outer(Om, t))  # (K, T)
+        f = (c[:, None] * phase) * dmx[..., None, :] + (s[:, None] * phase) * dmy[..., None, :]
+        Z = np.concatenate([np.zeros(f.shape[:-1] + (1,)), np.cumsum(f, axis=-1)], axis=-1)
+        A = Z[..., origins[:, None] + lags[None, :]] - Z[..., origins[:, None]]  # (..., K, O, L)
+        out += 2.0 * n**2 * np.mean(np.abs(A) ** 2, axis=-2) * float(dt) ** 2
+    return out

@@ -24,9 +24,18 @@ import numpy as np
 
 from ..kinetic.dielectric import DielectricTensor
 from ..kinetic.spectrum import SpectrumTable
+from ..meanfield import orbits
 from .fluctuations import welch_spectrum
 
-__all__ = ["measured_spectra", "window_kernel", "smoothed", "agreement", "spectrum_comparison"]
+__all__ = [
+    "measured_spectra",
+    "seed_spectra",
+    "resonance_bands",
+    "window_kernel",
+    "smoothed",
+    "agreement",
+    "spectrum_comparison",
+]
 
 COMPONENTS = {"x": "cc", "y": "ss"}
 
@@ -52,6 +61,36 @@ def measured_spectra(datasets):
         omega, S, err, n_seg = welch_spectrum(x, dt, seg)
         out[comp] = (N * S, N * err)
     return omega, out, n_seg, seg, dt, N
+
+
+def seed_spectra(datasets):
+    """Welch N S_x and N S_y of each MD dataset (realisation) separately, for resampling
+    (jackknife) over realisations: their mean over realisations is `measured_spectra`'s.
+
+    Returns (omega, {"x": (R, n_freq), "y": (R, n_freq)}, segment_length, dt, N)."""
+    if not datasets:
+        raise ValueError("no MD datasets")
+    ref = datasets[0]
+    dt = float(ref.attrs["m_every"])
+    N = float(ref.attrs["N"])
+    n_t = min(ds.sizes["time_fine"] for ds in datasets)
+    seg = min(int(round(float(ref.attrs["max_lag"]) / dt)), n_t)
+    out = {c: [] for c in COMPONENTS}
+    for ds in datasets:
+        frame = _slow_frame(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t], seg)
+        for i, comp in enumerate(COMPONENTS):
+            omega, S, _, _ = welch_spectrum(frame[i][None, :], dt, seg)
+            out[comp].append(N * S)
+    return omega, {c: np.stack(v) for c, v in out.items()}, seg, dt, N
+
+
+def resonance_bands(kappa_lo, kappa_hi, M0, n_max, pad=0.0):
+    """{n: (omega_lo, omega_hi)}: the frequencies n Omega(kappa) swept by the orbits with kappa in
+    [kappa_lo, kappa_hi] (one orbit family), widened by `pad` on each side (e.g. the Welch
+    resolution), for n = 1 ... n_max."""
+    om = orbits.frequency(np.array([float(kappa_lo), float(kappa_hi)]), float(M0))
+    lo, hi = float(np.min(om)), float(np.max(om))
+    return {n: (n * lo - pad, n * hi + pad) for n in range(1, int(n_max) + 1)}
 
 
 def _slow_frame(mx, my, seg):

@@ -38,6 +38,7 @@ __all__ = [
     "bath_spectrum",
     "SpectrumTable",
     "diffusion_from_spectrum",
+    "bin_diffusion_from_spectrum",
     "slope_kernel",
     "windowed_diffusion",
 ]
@@ -144,13 +145,38 @@ def _test_coefficients(kappa, n_max):
     return n, c2, s2
 
 
-def diffusion_from_spectrum(table, kappa, M0):
-    """N D(kappa) = sum_{n=1}^{n_max} n^2 [c_n^2 N S_x(n Omega) + sigma_n^2 N S_y(n Omega)]."""
+def diffusion_from_spectrum(table, kappa, M0, per_harmonic=False):
+    """N D(kappa) = sum_{n=1}^{n_max} n^2 [c_n^2 N S_x(n Omega) + sigma_n^2 N S_y(n Omega)].
+
+    per_harmonic: return the terms, shape (n_max, 2, kappa): harmonic n = 1 ... n_max, then
+    the S_x (c_n) and S_y (sigma_n) parts, instead of their sum."""
     kappa = np.atleast_1d(np.asarray(kappa, dtype=float))
     n, c2, s2 = _test_coefficients(kappa, table.n_max)
     w0 = n * orbits.frequency(kappa, M0)[None, :]
-    terms = n**2 * (c2 * table(w0, "cc") + s2 * table(w0, "ss"))
-    return terms.sum(axis=0)
+    terms = (n**2)[:, None] * np.stack([c2 * table(w0, "cc"), s2 * table(w0, "ss")], axis=1)
+    return terms if per_harmonic else terms.sum(axis=(0, 1))
+
+
+def bin_diffusion_from_spectrum(table, jbar_lo, jbar_hi, M0, density=None, n_sub=41,
+                                per_harmonic=False, lags=None):  # fmt: skip
+    """N D from the spectrum (`diffusion_from_spectrum`) averaged over a bin of the rescaled
+    action J-bar in [jbar_lo, jbar_hi], as an MD bin averages dJ^2 over its particles:
+    weighted by `density` (a callable of J-bar, e.g. `analysis.fits.tracked_density`; uniform
+    in J-bar if None) at n_sub points (the midpoints of n_sub + 1 equal parts).
+    per_harmonic: the weighted terms, (n_max, 2).  lags: the fit window's lags, for the N D
+    that a fit of the finite-time <dJ^2> over them gives (`windowed_diffusion`; a number)."""
+    jb = np.linspace(float(jbar_lo), float(jbar_hi), int(n_sub) + 2)[1:-1]
+    kappa = orbits.kappa_from_rescaled_action(jb, M0)
+    w = np.ones_like(jb) if density is None else np.asarray(density(jb), dtype=float)
+    if not (np.all(w >= 0) and w.sum() > 0):
+        raise ValueError("density must be >= 0 and not all zero over the bin")
+    w = w / w.sum()
+    if lags is not None:
+        if per_harmonic:
+            raise ValueError("per_harmonic is not available with lags")
+        return float(windowed_diffusion(table, kappa, M0, lags) @ w)
+    terms = diffusion_from_spectrum(table, kappa, M0, per_harmonic=True) @ w
+    return terms if per_harmonic else float(terms.sum())
 
 
 def slope_kernel(lags, x):
