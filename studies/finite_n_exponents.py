@@ -11,8 +11,8 @@ Reads only reference files under docs/reference (no simulation; seconds):
    8000, 16000 (experiments/hothalo_large_n/relaxation_comparison_summary.txt), tau_R^coarse of
    the present code from kinetic_time_uncertainty.csv (its uncertainty is common to every N: it
    moves the amplitude, not the points against each other, and is not in the errors);
-2. MD(full) N D at the hot halo's core edge (bin kappa0 = 0.43) against the dressed theory,
-   the excess N D_MD / N D_LB - 1, if spectrum_scaling_hothalo.txt holds it;
+2. (MD(full) N D at the hot halo's core edge, bin kappa0 = 0.43, is split into field and response
+   with its own exponents by studies/spectrum_scaling.py: spectrum_scaling_hothalo.txt);
 3. at u = 0, the deficit of the measured N D of the bin kappa0 = 1.039 below N D computed from
    the MD's own measured spectrum, 1 - ratio (spectrum_diffusion_u0.0_full.txt; both sets of
    seeds at N = 5e5 as separate points).
@@ -83,20 +83,6 @@ def item_response():
     return N, 1 - r, e, "1 - N D_MD / N D(MD's spectrum), u = 0, bin kappa0 = 1.039"
 
 
-CORE_EDGE = re.compile(r"N = ([0-9.e+]+) .*?N D_MD / N D_LB ([0-9.]+) \+- ([0-9.]+)")
-
-
-def item_core_edge():
-    path = REF / "spectrum_scaling_hothalo.txt"
-    if not path.exists():
-        return None
-    rows = [tuple(map(float, m)) for m in CORE_EDGE.findall(path.read_text())]
-    if len(rows) < 3:
-        return None
-    N, r, e = np.array(sorted(rows)).T
-    return N, r - 1, e, "N D_MD / N D_LB - 1, hot halo MD(full), bin kappa0 = 0.43"
-
-
 def report(N, y, err, label, n_ref, last=None):
     """Print the points and the fit; `last`: also fit the largest `last` N alone."""
     r = excess_power_law(N, y, err, exponents=EXPONENTS, n_ref=n_ref)
@@ -128,11 +114,10 @@ def main(argv):
         sys.exit(__doc__)
     print("# python studies/finite_n_exponents.py (reads docs/reference only)")
     report(*item_relaxation(), n_ref=1e4, last=3)
-    core = item_core_edge()
-    if core is not None:
-        report(*core, n_ref=1e4)
-    else:
-        print("\n(hot halo core edge: spectrum_scaling_hothalo.txt absent, not fitted)")
+    print(
+        "\n(the hot halo's core edge, MD(full) N D at kappa0 = 0.43: its exponents, field and "
+        "response apart, are in spectrum_scaling_hothalo.txt)"
+    )
     report(*item_response(), n_ref=1e6)
 
 

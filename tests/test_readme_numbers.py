@@ -266,6 +266,8 @@ KTU_CH2 = [
     "ch2 lenard_balescu n_max=8 1218 2643.84",
 ]
 EARLY = "early_rate.txt"
+#: field or response at the hot halo's core edge (studies/spectrum_scaling.py)
+SSH = "spectrum_scaling_hothalo.txt"
 #: the finite-N departures' exponents (studies/finite_n_exponents.py)
 FNE = "finite_n_exponents.txt"
 FNE_RELAX = [
@@ -519,6 +521,124 @@ CLAIMS = [
         ["hot_halo cc 0.7263 0.8522 1.58624 0.00742"],
         "1/gamma ~ 135 here",
         {"135": "1 / 0.00742"},
+    ),
+    # ------------------------------------------------------------------ findings: field or response
+    C(
+        F,
+        SSH,
+        [
+            "N = 1000: 48 realisations",
+            "N = 4000: 48 realisations",
+            "N = 16000: 32 realisations",
+            "N = 64000: 24 realisations",
+            "N = 256000: 16 realisations",
+            "N = 500000: 12 realisations",
+            "N = 1000000: 4 realisations",
+            "bin 1: kappa0 = 0.4270",
+        ],
+        "48, 48, 32, 24, 16, 12, 4 realisations at N = 1e3, 4e3, 1.6e4, 6.4e4, 2.56e5, 5e5, 1e6; "
+        "the bin kappa0 = 0.4270",
+    ),
+    C(
+        F,
+        SSH,
+        ["0.390: 0.00078", "0.491: 0.078", "e-folding length in kappa over the upper half 0.0149"],
+        "from 0.00078 at kappa = 0.390 to 0.078 at 0.491 (e-folding length 0.0149 in kappa)",
+    ),
+    C(
+        F,
+        SSH,
+        [
+            "N = 1000: 48",
+            "N = 4000: 48",
+            "N = 256000: 16",
+            "field (bw)/(cw) 1.429 +- 0.22",
+            "field (bw)/(cw) 0.9969 +- 0.11",
+            "field (bw)/(cw) 0.728 +- 0.1;",
+            "field (bw)/(cw) 0.835 +- 0.14",
+            "field (bw)/(cw) b = -0.072 +- 0.022",
+        ],
+        "is 1.429 +- 0.22 times the dressed theory fitted alike at N = 1000, 0.9969 +- 0.11 at 4000 "
+        "and 0.728 +- 0.1 to 0.835 +- 0.14 at N >= 2.56e5 (exponent -0.072 +- 0.022)",
+    ),
+    C(
+        F,
+        SSH,
+        [
+            "N = 1000: 48",
+            "N = 64000: 24",
+            "N = 256000: 16",
+            "N = 500000: 12",
+            "response (a)/(bw) 2.382 +- 0.46",
+            "response (a)/(bw) 2.086 +- 0.29",
+            "response (a)/(bw) 1.995 +- 0.25",
+            "response (a)/(bw) 1.675 +- 0.43",
+            "response (a)/(bw) 1.134 +- 0.081",
+            "response (a)/(bw) 1.014 +- 0.068",
+            "response (a)/(bw) b = -0.144 +- 0.021",
+        ],
+        "2.382 +- 0.46, 2.086 +- 0.29, 1.995 +- 0.25, 1.675 +- 0.43 at N = 1e3 ... 6.4e4 and "
+        "1.134 +- 0.081, 1.014 +- 0.068 at 2.56e5, 5e5 (exponent -0.144 +- 0.021)",
+    ),
+    C(
+        F,
+        SSH,
+        [
+            "bin nearest kappa0 = 0.25",
+            "N = 4000: 48",
+            "N = 500000: 8",
+            "response (a)/(bw) 0.8756 +- 0.029",
+            "response (a)/(bw) 0.9389 +- 0.028",
+        ],
+        "(kappa0 = 0.25, the control) it is 0.8756 +- 0.029 at N = 4000 and 0.9389 +- 0.028 at 5e5",
+    ),
+    C(
+        F,
+        SSH,
+        [
+            "at 500: 0.0789",
+            "at 500: 0.0319",
+            "at 500: 0.0139",
+            "at 500: 0.0071",
+            "N = 64000: 24",
+            "upper half 0.0149",
+        ],
+        "(rms kappa excursion at lag 500: 0.0789, 0.0319, 0.0139, 0.0071 at N = 1e3 ... 6.4e4, "
+        "against the e-folding length 0.0149)",
+    ),
+    C(
+        F,
+        SSH,
+        [
+            "(a)/(am) 1.077 +- 0.087",
+            "(a)/(am) 0.865 +- 0.081",
+            "(a)/(am) 0.895 +- 0.087",
+            "(a)/(am) 1.043 +- 0.24",
+            "(a)/(am) 0.998 +- 0.15",
+            "(a)/(am) 0.882 +- 0.11",
+            "(a)/(am) 0.963 +- 0.096",
+            "(am)/(bw) 1.137",
+            "(am)/(bw) 1.347",
+            "N = 256000: 16",
+        ],
+        "(measured / walkers 1.077 +- 0.087, 0.865 +- 0.081, 0.895 +- 0.087, 1.043 +- 0.24, "
+        "0.998 +- 0.15, 0.882 +- 0.11, 0.963 +- 0.096; the walker model exceeds the fixed-kappa "
+        "value by a factor 1.137-1.347 even at N >= 2.56e5",
+    ),
+    C(F, SSH, ["(a) measured N D b = -0.186 +- 0.015"], "(exponent -0.186 +- 0.015)"),
+    C(
+        F,
+        SSH,
+        [
+            "1.568-1.593 0.2985 +- 0.039",
+            "1.568-1.593 0.4681 +- 0.046",
+            "1.568-1.593 0.7122 +- 0.069",
+            "1.568-1.593 0.9628 +- 0.18",
+            "N = 16000: 32",
+            "N = 256000: 16",
+        ],
+        "at the mode (omega 1.568-1.593) the MD's S_x is 0.2985 +- 0.039, 0.4681 +- 0.046, "
+        "0.7122 +- 0.069 of the linear theory at N = 1e3, 4e3, 1.6e4 (0.9628 +- 0.18 at 2.56e5)",
     ),
     C(
         F,
@@ -1734,6 +1854,8 @@ CONTEXT = [
     ("docs/findings.md", "tau_R^coarse N / t_R - 1, falls"),
     ("docs/findings.md", "gives, 1 - N D_MD / N D(spectrum)"),
     ("docs/findings.md", "the exponent near 1/2 is a"),
+    ("docs/findings.md", "the n = 2 resonance of its upper orbits"),
+    ("docs/findings.md", "a weakly damped mode (Weinberg 1998) reaches"),
     ("README.md", "not the N^-1 of the order-1/N^2 theory"),
     ("docs/findings.md", "|n|, |n'| <= n_max, while"),
     ("docs/findings.md", "ln(1/|kappa - 1|). Landau's"),
