@@ -299,3 +299,73 @@ def ensemble_steps_float32_taylor(p, S, C, M, n_steps, dt):
         integrator._kick(p[r], S[r], C[r], h, fx, fy)
         M[r, 0] = fx
         M[r, 1] = fy
+
+
+# ---------------------------------------------------------------------------------------------
+# the <dJ^2> accumulator until 2026-11-28: every active origin's slot read at every sample
+# ---------------------------------------------------------------------------------------------
+@numba.njit(fastmath=elementary._FM)
+def _slot_bin_sums(Js, idx, J0s):
+    s2 = 0.0
+    sb2 = 0.0
+    s1 = 0.0
+    for k in range(idx.size):
+        j, jb = accumulator._unsigned(Js[idx[k]])
+        j0, jb0 = accumulator._unsigned(J0s[k])
+        d = j - j0
+        db = jb - jb0
+        s2 += d * d
+        sb2 += db * db
+        s1 += d
+    return s2, sb2, s1
+
+
+@numba.njit(parallel=True)
+def _slot_accumulate_kernel(Js, slots, lags, blocks, idx, J0s, seg, acc):
+    n_bins = seg.shape[1] - 1
+    for a in numba.prange(slots.size):
+        sl = slots[a]
+        L = lags[a]
+        B = blocks[a]
+        for b in range(n_bins):
+            lo = seg[sl, b]
+            hi = seg[sl, b + 1]
+            s2, sb2, s1 = _slot_bin_sums(Js, idx[sl, lo:hi], J0s[sl, lo:hi])
+            acc[0, b, L, B] += s2
+            acc[1, b, L, B] += sb2
+            acc[2, b, L, B] += s1
+            acc[3, b, L, B] += hi - lo
+
+
+class SlotDisplacementAccumulator(accumulator.DisplacementAccumulator):
+    """The accumulator until 2026-11-28: each origin's particles sorted by bin in its slot (as
+    now), but every active origin's slot (12 bytes per particle) read at every sample, where the
+    present one holds `buffer` samples and reads each slot once per buffer.  Its sums are the
+    present one's to rounding (the sums over a bin's particles run in another order)."""
+
+    def __init__(self, *args):
+        super().__init__(*args, buffer=1)
+
+    def add(self, s, J, Jbar):
+        if self.order is None:
+            self.order = np.argsort(Jbar, kind="stable")
+        bad = accumulator._signed_actions(
+            np.ascontiguousarray(J, dtype=np.float64),
+            np.ascontiguousarray(Jbar, dtype=np.float64),
+            self.order,
+            self._Js,
+            self._buf,
+            0,
+        )
+        if bad:
+            raise ValueError(f"sample {s}: {bad} particles with J < 0 or J-bar neither J nor J/2")
+        sl = self.origin_at(s)
+        if sl is not None:
+            accumulator._fill_slot(
+                self._Js, self.edges, self.idx[sl], self.J0s[sl], self.seg[sl], self.seen
+            )
+        slots, lags, blocks = self.active_origins(s)
+        if slots.size:
+            _slot_accumulate_kernel(
+                self._Js, slots, lags, blocks, self.idx, self.J0s, self.seg, self._acc
+            )
