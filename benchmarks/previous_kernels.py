@@ -369,3 +369,18 @@ class SlotDisplacementAccumulator(accumulator.DisplacementAccumulator):
             _slot_accumulate_kernel(
                 self._Js, slots, lags, blocks, self.idx, self.J0s, self.seg, self._acc
             )
+
+
+def initial_ensemble_per_realisation_table(state, n_particles, n_realisations, seed):
+    """`hmfdiff.dynamics.ensemble._initial_ensemble` until 2026-11-28: the kappa marginal's CDF
+    table recomputed for every realisation (inside `sampling.sample_state`)."""
+    from hmfdiff.dynamics import ensemble, sampling
+
+    th = np.empty((n_realisations, n_particles))
+    p = np.empty_like(th)
+    for r in range(n_realisations):
+        rng = sampling.make_rng(seed, r)
+        t, q = sampling.sample_state(state, n_particles, rng)
+        th[r], _ = sampling.rotate_to_x_axis(t)
+        p[r] = q - q.mean()
+    return ensemble.Ensemble(th, p)
