@@ -244,7 +244,7 @@ def angle_action(theta, p, M0):
     the direction of rotation for kappa > 1 (sign of p) and +1 for librating orbits.
     """
     theta = np.angle(np.exp(1j * _as_array(theta)))  # wrap to (-pi, pi]
-    p = _as_array(p)
+    theta, p = np.broadcast_arrays(theta, _as_array(p))
     # kappa^2 = (h + M0)/(2 M0) = p^2/(4 M0) + sin^2(theta/2), free of the cancellation in h + M0
     kappa = np.sqrt(p**2 / (4.0 * M0) + np.sin(0.5 * theta) ** 2)
     m, m1, lib = _modulus_parameter(kappa)
@@ -253,14 +253,17 @@ def angle_action(theta, p, M0):
         # librating: sin(phi) = sin(theta/2)/kappa = sn(u), cos(phi) = p/(2 sqrt(M0) kappa) = cn(u),
         # u = F(phi, kappa) = 2 K w / pi; phi from atan2 covers both signs of p without the
         # precision loss of arcsin at the turning points.  F(phi) = 2 j K + F(phi - j pi).
-        phi = np.arctan2(np.sin(0.5 * theta), p / (2.0 * np.sqrt(M0)))
+        # (each branch evaluated on its own orbits only: the incomplete integrals are the cost)
+        w = np.empty(np.broadcast(kappa, p).shape)
+        L, R = lib, ~lib
+        phi = np.arctan2(np.sin(0.5 * theta[L]), p[L] / (2.0 * np.sqrt(M0)))
         j = np.round(phi / np.pi)
-        F_lib = 2.0 * j * K + _ellipf(phi - j * np.pi, m)
-        w_lib = np.pi * F_lib / (2.0 * K)
+        F_lib = 2.0 * j * K[L] + _ellipf(phi - j * np.pi, m[L])
+        w[L] = np.pi * F_lib / (2.0 * K[L])
         # rotating: w = +- pi F(theta/2, 1/kappa) / K(1/kappa)
-        F_rot = _ellipf(0.5 * theta, m)
-        w_rot = np.where(p >= 0, 1.0, -1.0) * np.pi * F_rot / K
-    w = np.mod(np.where(lib, w_lib, w_rot), 2.0 * np.pi)
+        F_rot = _ellipf(0.5 * theta[R], m[R])
+        w[R] = np.where(p[R] >= 0, 1.0, -1.0) * np.pi * F_rot / K[R]
+    w = np.mod(w, 2.0 * np.pi)
     sign = np.where(lib, 1.0, np.where(p >= 0, 1.0, -1.0))
     return kappa, w, sign
 
