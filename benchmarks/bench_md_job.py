@@ -2,19 +2,22 @@
 md at config/config.yaml's size, the previous path against the present one in the same run,
 and the set-up of a relaxation_rates_md ensemble the same way.
 
-    python benchmarks/bench_md_job.py [--json] [--case thermal_u0.0] [--dynamics full]
+    python benchmarks/bench_md_job.py [--json] [--case thermal_u0.0] [--dynamics bath]
                                       [--t-max T] [--reps 1] [--no-ensemble]
 
-MD: `run_md` (one thread, as the md jobs run) with the present accumulator and with the one
-until 2026-11-28 (`previous_kernels.SlotDisplacementAccumulator`, which reads every active
-origin's slot at every sample), alternately; per path the wall time of the realisation and of
-its parts as run_md clocks them (integration, actions, accumulation, bath synthesis), the best
-of --reps each, and whether the two paths' sums are bitwise equal.  --t-max shortens the run
-(default: the config's t_max); the lags, origins and particle numbers are the config's.
+MD: `run_md` (one thread, as the md jobs run) as it is and within
+`previous_kernels.previous_orbits()` (the orbit functions and the exact bath's set-up until
+2026-11-28: both branches of K and J evaluated everywhere, Omega and c_0 of the bath evaluated
+anew), alternately; per path the wall time of the realisation (initial conditions included)
+and of its parts as run_md clocks them (bath synthesis, integration, actions, accumulation),
+the best of --reps each, and whether the two paths' sums and magnetisation are bitwise equal.
+--t-max shortens the run (default: the config's t_max); the lags, origins and particle numbers
+are the config's.  MD(bath) by default: its set-up is what changed; MD(full) changed only in
+drawing its test particles.
 
 Ensemble: `ensemble._initial_ensemble` of the hot halo at N = 1000, R = 512 (the largest R of
-relaxation_rates) against `previous_kernels.initial_ensemble_per_realisation_table`, and
-whether the two ensembles are bitwise equal.
+relaxation_rates) against `previous_kernels.initial_ensemble_per_realisation_table` within
+`previous_orbits()`, and whether the two ensembles are bitwise equal.
 
 Kernels are compiled on a tiny run before any timing; no numba cache.  Ratios are old / new
 (above 1: present faster).
@@ -23,6 +26,7 @@ Kernels are compiled on a tiny run before any timing; no numba cache.  Ratios ar
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import json
 import os
@@ -41,16 +45,12 @@ CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "config"
 PARTS = ("integration", "actions", "accumulation", "bath_synthesis")
 
 
-def _run_with(accumulator_cls, state, run, seed):
-    saved = md.DisplacementAccumulator
-    md.DisplacementAccumulator = accumulator_cls
-    try:
+def _run_with(context, state, run, seed):
+    with context():
         t = time.perf_counter()
         res = md.run_md(state, run, seed, 1, progress=None)
         wall = time.perf_counter() - t
-    finally:
-        md.DisplacementAccumulator = saved
-    return wall, {k: res.attrs[f"wall_{k}_s"] for k in PARTS}, res.sums
+    return wall, {k: res.attrs[f"wall_{k}_s"] for k in PARTS}, (res.sums, res.m_fine)
 
 
 def md_job(case, dynamics, t_max=None, reps=1, seed=0):
@@ -59,12 +59,9 @@ def md_job(case, dynamics, t_max=None, reps=1, seed=0):
     if t_max is not None:
         run = dataclasses.replace(run, t_max=float(t_max))
     state = make_state(config["cases"][case])
-    paths = {
-        "previous": previous_kernels.SlotDisplacementAccumulator,
-        "present": md.DisplacementAccumulator,
-    }
+    paths = {"previous": previous_kernels.previous_orbits, "present": contextlib.nullcontext}
     tiny = dataclasses.replace(
-        run, n_particles=256, n_test=64, n_track=None if dynamics == "full" else run.n_track,
+        run, n_particles=256, n_test=64, n_track=None,
         t_max=4.0 * run.max_lag, n_blocks=1,
     )  # fmt: skip
     for cls in paths.values():  # compile every kernel of both paths
@@ -83,13 +80,18 @@ def md_job(case, dynamics, t_max=None, reps=1, seed=0):
         "n_tracked": run.n_tracked,
         "t_max": run.t_max,
         "n_samples": run.n_samples,
-        "sums_bitwise_equal": bool(np.array_equal(sums["previous"], sums["present"])),
+        "sums_bitwise_equal": all(
+            np.array_equal(a, b) for a, b in zip(sums["previous"], sums["present"], strict=True)
+        ),
     }
     for name, (wall, parts) in best.items():
         out[f"{name}_wall_s"] = wall
         out.update({f"{name}_{k}_s": v for k, v in parts.items()})
     out["wall_ratio"] = out["previous_wall_s"] / out["present_wall_s"]
-    out["accumulation_ratio"] = out["previous_accumulation_s"] / out["present_accumulation_s"]
+    if out["present_bath_synthesis_s"] > 0:
+        out["bath_synthesis_ratio"] = (
+            out["previous_bath_synthesis_s"] / out["present_bath_synthesis_s"]
+        )
     return out
 
 
@@ -97,9 +99,10 @@ def ensemble_setup(n=1000, r=512, seed=2):
     config = yaml.safe_load(open(CONFIG))
     state = make_state(config["cases"]["corehalo_hothalo"])
     ensemble._initial_ensemble(state, 64, 2, seed)  # compile
-    t = time.perf_counter()
-    old = previous_kernels.initial_ensemble_per_realisation_table(state, n, r, seed)
-    t_old = time.perf_counter() - t
+    with previous_kernels.previous_orbits():
+        t = time.perf_counter()
+        old = previous_kernels.initial_ensemble_per_realisation_table(state, n, r, seed)
+        t_old = time.perf_counter() - t
     t = time.perf_counter()
     new = ensemble._initial_ensemble(state, n, r, seed)
     t_new = time.perf_counter() - t
@@ -118,7 +121,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true", help="print one JSON object")
     ap.add_argument("--case", default="thermal_u0.0")
-    ap.add_argument("--dynamics", default="full", choices=("bath", "full"))
+    ap.add_argument("--dynamics", default="bath", choices=("bath", "full"))
     ap.add_argument("--t-max", type=float, default=None, help="shorter production run")
     ap.add_argument("--reps", type=int, default=1)
     ap.add_argument("--no-ensemble", action="store_true", help="skip the ensemble set-up")
@@ -139,9 +142,14 @@ def main(argv=None):
     for name in ("previous", "present"):
         parts = ", ".join(f"{k} {res[f'{name}_{k}_s']:.2f}" for k in PARTS)
         print(f"  {name:8s} {res[f'{name}_wall_s']:6.2f} s  ({parts})")
+    synthesis = (
+        f", bath synthesis x{res['bath_synthesis_ratio']:.2f}"
+        if "bath_synthesis_ratio" in res
+        else ""
+    )
     print(
-        f"  ratio previous / present: wall x{res['wall_ratio']:.2f}, accumulation "
-        f"x{res['accumulation_ratio']:.2f}; sums bitwise equal: {res['sums_bitwise_equal']}"
+        f"  ratio previous / present: wall x{res['wall_ratio']:.2f}{synthesis}; sums and "
+        f"magnetisation bitwise equal: {res['sums_bitwise_equal']}"
     )
     if "ensemble_setup_ratio" in res:
         print(
