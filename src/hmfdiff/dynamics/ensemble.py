@@ -24,7 +24,6 @@ each realisation's own |M| ('hist_own') and with the initial state's static M0
 
 from __future__ import annotations
 
-import math
 import sys
 import time as _time
 
@@ -33,7 +32,7 @@ import numpy as np
 from numba import njit, prange
 
 from . import sampling
-from .elementary import _CHUNK, _FM, _chunk_frame_actions, angles, sincos_wrapped_array
+from .elementary import _CHUNK, _FM, angles, frame_actions, sincos_wrapped_array
 from .integrator import _BOUND_REFRESH, STATE_DTYPE, _chunk_advance, _kick
 
 __all__ = ["ACTION_MEASURES", "Ensemble", "measurement_times", "run_ensemble"]
@@ -99,46 +98,6 @@ def _ensemble_moments(p, S, C, out):
         out[r, 1] = b / N
         out[r, 2] = c / N
         out[r, 3] = d / N
-
-
-@njit(parallel=True)
-def _ensemble_histograms(S, C, p, m, cphi, sphi, edges, hist, overflow):
-    """hist[r, b] += the number of particles of realisation r with edges[b] <= J-bar <
-    edges[b + 1], overflow[r] += the others (J-bar >= edges[-1], below edges[0] or NaN), J-bar
-    of each particle in the frame rotated by the angle phi_r (cos phi_r, sin phi_r) with the
-    magnetisation modulus m[r]: per realisation the chunks and arithmetic of
-    `elementary.frame_actions` (the same J-bar to the bit) and the bins of
-    np.searchsorted(edges, J-bar, 'right') - 1, in one call for all realisations instead of a
-    Python loop over them."""
-    R, N = p.shape
-    B = edges.size - 1
-    n_chunks = (N + _CHUNK - 1) // _CHUNK
-    index = np.arange(N)
-    for r in prange(R):
-        J = np.empty(N)
-        Jb = np.empty(N)
-        for ch in range(n_chunks):
-            lo = ch * _CHUNK
-            hi = min(lo + _CHUNK, N)
-            _chunk_frame_actions(
-                S[r], C[r], p[r], index[lo:hi], cphi[r], sphi[r], m[r], J[lo:hi], Jb[lo:hi]
-            )
-        out = 0
-        for i in range(N):
-            x = Jb[i]
-            if edges[0] <= x < edges[B]:  # false for NaN
-                lo = 0
-                hi = B  # edges[lo] <= x < edges[hi]
-                while hi - lo > 1:
-                    mid = (lo + hi) // 2
-                    if edges[mid] <= x:
-                        lo = mid
-                    else:
-                        hi = mid
-                hist[r, lo] += 1
-            else:
-                out += 1
-        overflow[r] += out
 
 
 class Ensemble:
@@ -264,6 +223,8 @@ def run_ensemble(
         out["hist" + measure] = np.zeros((T, R, B), dtype=np.int64)
         out["overflow" + measure] = np.zeros((T, R), dtype=np.int64)
     m_static = float(state.M0 if M0_static is None else M0_static)
+    J = np.empty(n_particles)
+    Jb = np.empty(n_particles)
     wall0 = last = _time.perf_counter()
     done = 0
     for k, s in enumerate(steps):
@@ -277,22 +238,13 @@ def run_ensemble(
         out["momentum"][k] = mom[:, 2]
         m0 = float(np.mean(m_abs))
         out["M0_actions"][k] = m0
-        cphi = np.array([math.cos(float(x)) for x in phase])
-        sphi = np.array([math.sin(float(x)) for x in phase])
-        for measure, m in zip(
-            ACTION_MEASURES, (np.full(R, m0), m_abs, np.full(R, m_static)), strict=True
-        ):
-            _ensemble_histograms(
-                ens.S,
-                ens.C,
-                ens.p,
-                np.ascontiguousarray(m, dtype=np.float64),
-                cphi,
-                sphi,
-                edges,
-                out["hist" + measure][k],
-                out["overflow" + measure][k],
-            )
+        for r in range(R):
+            for measure, m in zip(ACTION_MEASURES, (m0, m_abs[r], m_static), strict=True):
+                frame_actions(ens.S[r], ens.C[r], ens.p[r], float(m), float(phase[r]), (J, Jb))
+                idx = np.searchsorted(edges, Jb, side="right") - 1
+                inside = (idx >= 0) & (idx < B)
+                out["hist" + measure][k, r] = np.bincount(idx[inside], minlength=B)
+                out["overflow" + measure][k, r] = n_particles - int(inside.sum())
         now = _time.perf_counter()
         if now - last >= progress_every or k == T - 1:
             rate = s * n_particles * R / max(now - wall0, 1e-9)
