@@ -29,11 +29,12 @@ import time as _time
 
 import numba
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from . import sampling
 from .elementary import _CHUNK, _FM, angles, frame_actions, sincos_wrapped_array
 from .integrator import _BOUND_REFRESH, STATE_DTYPE, _chunk_advance, _kick
+from .jit import njit
 
 __all__ = ["ACTION_MEASURES", "Ensemble", "measurement_times", "run_ensemble"]
 
