@@ -13,9 +13,16 @@ by float32 Taylor polynomials and the kick p + h (Fy C - Fx S) with h rounded to
 two roundings with a sign that made its energy drift; they give the library's kernels of
 before to the bit (checked against them when written: p, sin, cos and M after 100-300 steps
 of `advance_system` and `Ensemble.advance`).
+
+And what an MD job paid around the kernels until 2026-11-28 (benchmarks/bench_md_job.py): the
+ensemble's set-up with the kappa marginal's table recomputed per realisation
+(`initial_ensemble_per_realisation_table`), and the orbit functions and the exact bath's set-up
+that evaluated both branches of K and J everywhere (`previous_orbits`).
 """
 
 from __future__ import annotations
+
+import contextlib
 
 import numba
 import numpy as np
@@ -299,3 +306,109 @@ def ensemble_steps_float32_taylor(p, S, C, M, n_steps, dt):
         integrator._kick(p[r], S[r], C[r], h, fx, fy)
         M[r, 0] = fx
         M[r, 1] = fy
+
+
+def initial_ensemble_per_realisation_table(state, n_particles, n_realisations, seed):
+    """`hmfdiff.dynamics.ensemble._initial_ensemble` until 2026-11-28: the kappa marginal's CDF
+    table recomputed for every realisation (inside `sampling.sample_state`)."""
+    from hmfdiff.dynamics import ensemble, sampling
+
+    th = np.empty((n_realisations, n_particles))
+    p = np.empty_like(th)
+    for r in range(n_realisations):
+        rng = sampling.make_rng(seed, r)
+        t, q = sampling.sample_state(state, n_particles, rng)
+        th[r], _ = sampling.rotate_to_x_axis(t)
+        p[r] = q - q.mean()
+    return ensemble.Ensemble(th, p)
+
+
+# ---------------------------------------------------------------------------------------------
+# orbits and the exact bath's set-up until 2026-11-28: both branches of K and J evaluated at
+# every point (np.where keeping one), E evaluated where only K was used, Omega and c_0 of the
+# bath by orbits.frequency and fourier.cos_coefficient (the present ones give the same numbers
+# to the bit, with less work)
+# ---------------------------------------------------------------------------------------------
+def _old_K_E(m, m1):
+    from scipy import special
+
+    K = np.where(m1 < 0.5, special.ellipkm1(m1), special.ellipk(m))
+    E = special.ellipe(m)
+    return K, E
+
+
+def _old_K(m, m1):  # the callers of `_K` evaluated `K, _ = _K_E(m, m1)`
+    return _old_K_E(m, m1)[0]
+
+
+def _old_E_minus_m1K(m, m1):
+    from scipy import special
+
+    K = np.where(m1 < 0.5, special.ellipkm1(m1), special.ellipk(m))
+    return m * (K - special.elliprd(0.0, m1, 1.0) / 3.0)
+
+
+def _old_action(kappa, M0):
+    from scipy import special
+
+    from hmfdiff.meanfield import orbits
+
+    kappa = orbits._as_array(kappa)
+    m, m1, lib = orbits._modulus_parameter(kappa)
+    s = np.sqrt(M0)
+    lib_part = 8.0 * s / np.pi * _old_E_minus_m1K(np.where(lib, m, 0.0), np.where(lib, m1, 1.0))
+    rot_part = 4.0 * s / np.pi * kappa * special.ellipe(m)
+    return np.where(lib, lib_part, rot_part)
+
+
+def _old_angle_action(theta, p, M0):
+    from hmfdiff.meanfield import orbits
+
+    theta = np.angle(np.exp(1j * orbits._as_array(theta)))
+    p = orbits._as_array(p)
+    kappa = np.sqrt(p**2 / (4.0 * M0) + np.sin(0.5 * theta) ** 2)
+    m, m1, lib = orbits._modulus_parameter(kappa)
+    K, _ = _old_K_E(m, m1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi = np.arctan2(np.sin(0.5 * theta), p / (2.0 * np.sqrt(M0)))
+        j = np.round(phi / np.pi)
+        F_lib = 2.0 * j * K + orbits._ellipf(phi - j * np.pi, m)
+        w_lib = np.pi * F_lib / (2.0 * K)
+        F_rot = orbits._ellipf(0.5 * theta, m)
+        w_rot = np.where(p >= 0, 1.0, -1.0) * np.pi * F_rot / K
+    w = np.mod(np.where(lib, w_lib, w_rot), 2.0 * np.pi)
+    sign = np.where(lib, 1.0, np.where(p >= 0, 1.0, -1.0))
+    return kappa, w, sign
+
+
+def _old_frequency_c0(kappa, lib, K, E, M0):
+    from hmfdiff.meanfield import orbits
+    from hmfdiff.meanfield.fourier import cos_coefficient
+
+    return orbits.frequency(kappa, M0), cos_coefficient(0, kappa)
+
+
+@contextlib.contextmanager
+def previous_orbits():
+    """Within: hmfdiff.meanfield.orbits and the exact bath's set-up as they ran until
+    2026-11-28 (module attributes swapped, restored on exit)."""
+    from hmfdiff.dynamics import exact_bath
+    from hmfdiff.meanfield import fourier, orbits
+
+    swaps = [
+        (orbits, "_K_E", _old_K_E),
+        (orbits, "_K", _old_K),
+        (orbits, "_E_minus_m1K", _old_E_minus_m1K),
+        (orbits, "action", _old_action),
+        (orbits, "angle_action", _old_angle_action),
+        (fourier, "_K_E", _old_K_E),
+        (exact_bath, "_frequency_c0", _old_frequency_c0),
+    ]
+    saved = [(mod, name, getattr(mod, name)) for mod, name, _ in swaps]
+    try:
+        for mod, name, fn in swaps:
+            setattr(mod, name, fn)
+        yield
+    finally:
+        for mod, name, fn in saved:
+            setattr(mod, name, fn)

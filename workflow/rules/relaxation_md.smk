@@ -2,6 +2,7 @@ rule relaxation_md:
     """An ensemble of N-body relaxations (full dynamics) of one case at one N."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
+        kernels=KERNELS,
     output:
         f"{RES}/relaxation_md/{{case}}/N{{n}}.nc",
     log:
@@ -28,6 +29,7 @@ rule relaxation_md_control:
     N, realisations, bins, time step and schedule (the measurement floor)."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
+        kernels=KERNELS,
     output:
         f"{RES}/relaxation_md/{{case}}/thermal/N{{n}}.nc",
     log:
@@ -77,6 +79,7 @@ rule relaxation_rates_md:
     of its energy (the control), at one N."""
     input:
         equilibrium=f"{RES}/equilibrium/{{case}}.nc",
+        kernels=KERNELS,
     output:
         f"{RES}/relaxation_rates/{{case}}/{{initial}}/N{{n}}.nc",
     log:

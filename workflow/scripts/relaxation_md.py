@@ -3,19 +3,25 @@ at one N (results/relaxation_md/{case}/N{N}.nc), or of its initial state or the 
 of the same energy over the early window (results/relaxation_rates/{case}/{initial}/N{N}.nc).
 The J-bar bins are the case's in both, so that the thermal control is binned as the state."""
 
-import json
-
-import numpy as np
-
-from hmfdiff.dynamics.ensemble import measurement_times, run_ensemble
-from hmfdiff.meanfield import orbits
-from hmfdiff.meanfield.equilibrium import ThermalState
-from hmfdiff.pipeline.io import read_dataset, write_dataset
-from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset
-from hmfdiff.pipeline.layouts.relaxation_md import relaxation_md_dataset
-from hmfdiff.pipeline.runtime import get_logger, set_threads
+# numba reads its cache directory when the kernels are imported: set it first (a private copy
+# of the shared cache warmed by rule kernels; compiling the ensemble's kernels took ~8 s a job)
+from hmfdiff.dynamics.kernel_cache import cache_counts, use_kernel_cache
 
 sm = snakemake  # noqa: F821
+use_kernel_cache(sm.input.kernels)
+
+import json  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from hmfdiff.dynamics.ensemble import measurement_times, run_ensemble  # noqa: E402
+from hmfdiff.meanfield import orbits  # noqa: E402
+from hmfdiff.meanfield.equilibrium import ThermalState  # noqa: E402
+from hmfdiff.pipeline.io import read_dataset, write_dataset  # noqa: E402
+from hmfdiff.pipeline.layouts.equilibrium import state_from_dataset  # noqa: E402
+from hmfdiff.pipeline.layouts.relaxation_md import relaxation_md_dataset  # noqa: E402
+from hmfdiff.pipeline.runtime import get_logger, set_threads  # noqa: E402
+
 log = get_logger("relaxation_md", sm.log[0])
 run = json.loads(sm.params.run)
 threads = set_threads(sm.threads)
@@ -58,4 +64,6 @@ ds.attrs["initial"] = initial
 write_dataset(
     ds, sm.output[0], {"relaxation_md": run, "N": n, "initial": initial}, case=sm.wildcards.case
 )
-log.info("wrote %s (%.1f s)", sm.output[0], out["wall_time_s"])
+log.info(
+    "wrote %s (%.1f s); compiled-kernel cache %s", sm.output[0], out["wall_time_s"], cache_counts()
+)

@@ -41,7 +41,6 @@ import numpy as np
 from numba import prange
 
 from ..meanfield import orbits
-from ..meanfield.fourier import cos_coefficient
 from .integrator import Field, Particles
 from .jit import njit
 
@@ -53,16 +52,35 @@ MAX_HARMONICS = 256
 _CHUNK_POINTS = 500_000
 
 
-def _orbit_parameters(kappa):
-    """(rho, A, librating) of each orbit: coefficients |c_n|, |sigma_n| = A n rho^n / (1 -+
-    rho^(2n)) (eqs. hmfcm, hmfsm)."""
+def _orbit_parts(kappa):
+    """(rho, A, librating, K, E) of each orbit: coefficients |c_n|, |sigma_n| = A n rho^n /
+    (1 -+ rho^(2n)) (eqs. hmfcm, hmfsm), and the complete elliptic integrals of its modulus
+    (`orbits._K_E`), which the synthesis reuses for Omega and c_0 instead of evaluating them
+    twice more."""
     m, m1, lib = orbits._modulus_parameter(kappa)
-    K, _ = orbits._K_E(m, m1)
+    K, E = orbits._K_E(m, m1)
     q = orbits.nome(m, m1)
     with np.errstate(invalid="ignore", divide="ignore"):
         rho = np.where(lib, np.sqrt(q), q)
         A = (np.pi / K) ** 2 * np.where(lib, 1.0, 2.0 * kappa**2)
-    return rho, A, lib
+    return rho, A, lib, K, E
+
+
+def _orbit_parameters(kappa):
+    """(rho, A, librating) of each orbit (`_orbit_parts`)."""
+    return _orbit_parts(kappa)[:3]
+
+
+def _frequency_c0(kappa, lib, K, E, M0):
+    """(Omega, c_0) of orbits kappa from their K and E: the expressions of
+    `orbits.frequency` and `fourier.cos_coefficient(0, kappa)` (the same numbers to the bit),
+    without evaluating K, E and the nome again."""
+    s = np.sqrt(M0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        omega = np.where(lib, np.pi * s / (2.0 * K), np.pi * s * kappa / K)
+        c0_lib = 2.0 * E / K - 1.0
+        c0_rot = 1.0 - 2.0 * kappa**2 * (1.0 - E / K)
+    return omega, np.where(lib, c0_lib, c0_rot)
 
 
 @njit
@@ -191,14 +209,16 @@ class ExactBath:
         n_steps = int(n_steps)
         self.M0, self.dt, self.n_steps, self.tolerance = float(M0), float(dt), n_steps, tolerance
         kappa, w, sign = orbits.angle_action(theta, p, M0)
-        params = _orbit_parameters(kappa)
+        rho, A, lib, K, E = _orbit_parts(kappa)
+        params = (rho, A, lib)
         n_harm = harmonics_needed(kappa, tolerance, n_max, params)
         direct = n_harm > n_max
         self.n_direct = int(direct.sum())
         syn = ~direct
         kappa_s, w_s, sign_s, nh = kappa[syn], w[syn], sign[syn], n_harm[syn]
-        rho, A, lib = (v[syn] for v in params)
-        omega_dt = orbits.frequency(kappa_s, M0) * dt
+        rho, A, lib, K, E = (v[syn] for v in (rho, A, lib, K, E))
+        omega, c0 = _frequency_c0(kappa_s, lib, K, E, M0)
+        omega_dt = omega * dt
         offsets = np.concatenate([[0], np.cumsum(nh)]).astype(np.int64)
         self.n_points = int(offsets[-1])
         self.max_harmonics_used = int(nh.max(initial=0))
@@ -244,7 +264,6 @@ class ExactBath:
                 a = np.ascontiguousarray(a)  # a copy only for a short last chunk
                 F += finufft.nufft1d1(x, a, n_modes, eps=eps, isign=1, nthreads=int(threads))
             first = last
-        c0 = cos_coefficient(0, kappa_s)
         hist = np.empty((n_steps + 1, 2))
         hist[:, 0] = (c0.sum() + F[0, : n_steps + 1].real) / n_b
         hist[:, 1] = F[1, : n_steps + 1].imag / n_b

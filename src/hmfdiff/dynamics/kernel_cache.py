@@ -32,7 +32,7 @@ from pathlib import Path
 
 from .jit import ENABLE
 
-_KERNEL_MODULES = ("elementary", "integrator", "accumulator", "exact_bath")
+_KERNEL_MODULES = ("elementary", "integrator", "accumulator", "exact_bath", "ensemble")
 _SOURCES = Path(__file__).resolve().parent
 
 __all__ = ["ENABLE", "kernel_version", "use_kernel_cache", "warm", "cache_counts"]
@@ -84,7 +84,7 @@ def _compile_everything():
     import numpy as np
 
     from ..meanfield.equilibrium import ThermalState
-    from . import elementary, md
+    from . import elementary, ensemble, md
     from .settings import MDRun
 
     state = ThermalState(M0=0.7)
@@ -98,6 +98,17 @@ def _compile_everything():
             seed=0,
             progress=None,
         )
+    # the relaxation ensembles (rules relaxation_md, relaxation_md_control, relaxation_rates_md)
+    ensemble.run_ensemble(
+        state,
+        n_particles=64,
+        n_realisations=2,
+        dt=0.1,
+        times=np.array([0.0, 0.5, 1.0]),
+        jbar_edges=np.linspace(0.0, 1.0, 5),
+        seed=0,
+        progress=lambda msg: None,
+    )
     elementary.sincos_array(np.zeros(4))
     elementary.sincos_wrapped_array(np.zeros(4))
     elementary.actions_from_kappa(np.full(4, 0.5), 0.7)

@@ -125,18 +125,20 @@ def _phase_points_from_kappa(kappa, M0, rng):
     return wrap_angle(theta), p
 
 
-def sample_state(state, n, rng, method="auto"):
+def sample_state(state, n, rng, method="auto", table=None):
     """Sample n particles (theta, p) from the state's f.
 
     method 'auto': exact thermal sampler (`sample_thermal`) for a ThermalState, else the kappa
     marginal ('kappa'): kappa from f, w uniform, direction of rotation +-1 with probability 1/2.
+    table: `jbar_cdf_table(state)` if already computed (it depends on the state only: callers
+    that sample one state many times pass it once instead of recomputing it, ~10 ms each).
     """
     if method == "auto":
         method = "thermal" if getattr(state, "kind", "") == "thermal" else "kappa"
     if method == "thermal":
         return sample_thermal(state, n, rng)
     if method == "kappa":
-        kappa = sample_kappa(state, n, rng)
+        kappa = sample_kappa(state, n, rng, table=table)
         return _phase_points_from_kappa(kappa, state.M0, rng)
     raise ValueError(f"method = {method!r}: must be 'auto', 'thermal' or 'kappa'")
 

@@ -63,11 +63,21 @@ def _modulus_parameter(kappa):
     return m, m1, lib
 
 
+def _K(m, m1):
+    """Complete elliptic integral K of parameter m, with m1 = 1 - m given accurately: ellipkm1(m1)
+    where m1 < 0.5, else ellipk(m), each evaluated only where it is used."""
+    m, m1 = np.broadcast_arrays(_as_array(m), _as_array(m1))
+    K = np.empty(m.shape)
+    near = m1 < 0.5
+    far = ~near
+    K[near] = special.ellipkm1(m1[near])
+    K[far] = special.ellipk(m[far])
+    return K
+
+
 def _K_E(m, m1):
     """Complete elliptic integrals K and E of parameter m, with m1 = 1 - m given accurately."""
-    K = np.where(m1 < 0.5, special.ellipkm1(m1), special.ellipk(m))
-    E = special.ellipe(m)
-    return K, E
+    return _K(m, m1), special.ellipe(m)
 
 
 def _E_minus_m1K(m, m1):
@@ -76,8 +86,7 @@ def _E_minus_m1K(m, m1):
     With K - E = (m/3) R_D(0, m1, 1), E - m1 K = m K - (m/3) R_D(0, m1, 1) = m (K - R_D/3),
     a product of m and an O(1) difference: accurate from kappa -> 0 to the separatrix.
     """
-    K = np.where(m1 < 0.5, special.ellipkm1(m1), special.ellipk(m))
-    return m * (K - special.elliprd(0.0, m1, 1.0) / 3.0)
+    return m * (_K(m, m1) - special.elliprd(0.0, m1, 1.0) / 3.0)
 
 
 def _ellipf(phi, m):
@@ -112,10 +121,13 @@ def action(kappa, M0):
     kappa = _as_array(kappa)
     m, m1, lib = _modulus_parameter(kappa)
     s = np.sqrt(M0)
-    # the librating branch at librating points only (at kappa = 1 it would be inf - inf)
-    lib_part = 8.0 * s / np.pi * _E_minus_m1K(np.where(lib, m, 0.0), np.where(lib, m1, 1.0))
-    rot_part = 4.0 * s / np.pi * kappa * special.ellipe(m)
-    return np.where(lib, lib_part, rot_part)
+    # each branch at its own points only (the librating one at kappa = 1 would be inf - inf)
+    kappa, m, m1, lib = np.broadcast_arrays(kappa, m, m1, lib)
+    J = np.empty(kappa.shape)
+    rot = ~lib
+    J[lib] = 8.0 * s / np.pi * _E_minus_m1K(m[lib], m1[lib])
+    J[rot] = 4.0 * s / np.pi * kappa[rot] * special.ellipe(m[rot])
+    return J
 
 
 def action_separatrix(M0, side):
@@ -127,7 +139,7 @@ def dJ_dkappa(kappa, M0):
     """dJ/dkappa, eq. (hmfjacob): (8 sqrt(M0)/pi) kappa K(kappa) or (4 sqrt(M0)/pi) K(1/kappa)."""
     kappa = _as_array(kappa)
     m, m1, lib = _modulus_parameter(kappa)
-    K, _ = _K_E(m, m1)
+    K = _K(m, m1)
     s = np.sqrt(M0)
     return np.where(lib, 8.0 * s / np.pi * kappa * K, 4.0 * s / np.pi * K)
 
@@ -140,7 +152,7 @@ def frequency(kappa, M0):
     """
     kappa = _as_array(kappa)
     m, m1, lib = _modulus_parameter(kappa)
-    K, _ = _K_E(m, m1)
+    K = _K(m, m1)
     s = np.sqrt(M0)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(lib, np.pi * s / (2.0 * K), np.pi * s * kappa / K)
@@ -244,23 +256,26 @@ def angle_action(theta, p, M0):
     the direction of rotation for kappa > 1 (sign of p) and +1 for librating orbits.
     """
     theta = np.angle(np.exp(1j * _as_array(theta)))  # wrap to (-pi, pi]
-    p = _as_array(p)
+    theta, p = np.broadcast_arrays(theta, _as_array(p))
     # kappa^2 = (h + M0)/(2 M0) = p^2/(4 M0) + sin^2(theta/2), free of the cancellation in h + M0
     kappa = np.sqrt(p**2 / (4.0 * M0) + np.sin(0.5 * theta) ** 2)
     m, m1, lib = _modulus_parameter(kappa)
-    K, _ = _K_E(m, m1)
+    K = _K(m, m1)
     with np.errstate(divide="ignore", invalid="ignore"):
         # librating: sin(phi) = sin(theta/2)/kappa = sn(u), cos(phi) = p/(2 sqrt(M0) kappa) = cn(u),
         # u = F(phi, kappa) = 2 K w / pi; phi from atan2 covers both signs of p without the
         # precision loss of arcsin at the turning points.  F(phi) = 2 j K + F(phi - j pi).
-        phi = np.arctan2(np.sin(0.5 * theta), p / (2.0 * np.sqrt(M0)))
+        # (each branch evaluated on its own orbits only: the incomplete integrals are the cost)
+        w = np.empty(np.broadcast(kappa, p).shape)
+        L, R = lib, ~lib
+        phi = np.arctan2(np.sin(0.5 * theta[L]), p[L] / (2.0 * np.sqrt(M0)))
         j = np.round(phi / np.pi)
-        F_lib = 2.0 * j * K + _ellipf(phi - j * np.pi, m)
-        w_lib = np.pi * F_lib / (2.0 * K)
+        F_lib = 2.0 * j * K[L] + _ellipf(phi - j * np.pi, m[L])
+        w[L] = np.pi * F_lib / (2.0 * K[L])
         # rotating: w = +- pi F(theta/2, 1/kappa) / K(1/kappa)
-        F_rot = _ellipf(0.5 * theta, m)
-        w_rot = np.where(p >= 0, 1.0, -1.0) * np.pi * F_rot / K
-    w = np.mod(np.where(lib, w_lib, w_rot), 2.0 * np.pi)
+        F_rot = _ellipf(0.5 * theta[R], m[R])
+        w[R] = np.where(p[R] >= 0, 1.0, -1.0) * np.pi * F_rot / K[R]
+    w = np.mod(w, 2.0 * np.pi)
     sign = np.where(lib, 1.0, np.where(p >= 0, 1.0, -1.0))
     return kappa, w, sign
 
@@ -277,7 +292,7 @@ def phase_point(w, kappa, M0, sign=1.0):
     sign = _as_array(sign)
     w, kappa, sign = np.broadcast_arrays(w, kappa, sign)
     m, m1, lib = _modulus_parameter(kappa)
-    K, _ = _K_E(m, m1)
+    K = _K(m, m1)
     s = np.sqrt(M0)
     u = np.where(lib, 2.0 * K * w / np.pi, K * w / np.pi)
     sn, cn, dn, ph = special.ellipj(u, m)
