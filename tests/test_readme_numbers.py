@@ -266,6 +266,8 @@ KTU_CH2 = [
     "ch2 lenard_balescu n_max=8 1218 2643.84",
 ]
 EARLY = "early_rate.txt"
+#: walkers on the theory's D beside the separatrix (studies/separatrix_excursions.py)
+EXC = "separatrix_excursions.txt"
 #: field or response at the hot halo's core edge (studies/spectrum_scaling.py)
 SSH = "spectrum_scaling_hothalo.txt"
 #: the finite-N departures' exponents (studies/finite_n_exponents.py)
@@ -521,6 +523,42 @@ CLAIMS = [
         ["hot_halo cc 0.7263 0.8522 1.58624 0.00742"],
         "1/gamma ~ 135 here",
         {"135": "1 / 0.00742"},
+    ),
+    C(
+        F,
+        EXC,
+        [
+            "fixed-kappa N D 0.15; walkers / fixed: cross 0.9663 +- 0.0081",
+            "fixed-kappa N D 0.15; walkers / fixed: cross 0.9814 +- 0.0083",
+            "fixed-kappa N D 0.15; walkers / fixed: cross 0.9901 +- 0.0085",
+            "fixed-kappa N D 0.15; walkers / fixed: cross 0.9947 +- 0.0086",
+            "N = 2.5e+05: MD measured / from its spectrum 0.824 +- 0.049",
+            "N = 2e+06: MD measured / from its spectrum 0.944 +- 0.020",
+            "+0.0347, +0.0198, +0.0111, +0.0064 at N = 2.5e+05, 5e+05, 1e+06, 2e+06; power law "
+            "N^(-0.81 +- 0.01)",
+        ],
+        "they give 0.9663 +- 0.0081, 0.9814 +- 0.0083, 0.9901 +- 0.0085, 0.9947 +- 0.0086 of the "
+        "fixed-kappa theory at N = 2.5e5, 5e5, 1e6, 2e6, a deficit five to twelve times smaller "
+        "than the MD's that falls as N^(-0.81 +- 0.01)",
+    ),
+    C(
+        F,
+        EXC,
+        [
+            "1.0067-1.0140 1.308 | 0.545 0.255 | 0.667 0.337",
+            "1.0140-1.0219 0.6322 | 1.280 0.629 | 1.505 1.275",
+            "1.0219-1.0578 0.6973 | 1.144 1.008 | 1.041 1.037",
+            "kappa bin fixed N D | N = 1e6: cross reflect | N = 4e6: cross reflect",
+            "Landau D from the spectrum table",
+        ],
+        "give 0.545 at kappa 1.0067-1.0140 and 1.280 at 1.0140-1.0219 of the fixed-kappa theory at "
+        "N = 1e6, and 1.144 in the production bin kappa 1.0219-1.0578 (1.041 at 4e6)",
+    ),
+    C(
+        F,
+        EXC,
+        ["1.0067-1.0140 1.308 | 0.545 0.255", "1.0140-1.0219 0.6322 | 1.280 0.629"],
+        "walkers reflected at the separatrix give 0.255 and 0.629 there instead",
     ),
     # ------------------------------------------------------------------ findings: field or response
     C(
@@ -820,9 +858,20 @@ CLAIMS = [
     ),
     C(
         R,
+        "from_empty_2026-11-28.txt",
+        [
+            "Elapsed (wall clock) time (h:mm:ss or m:ss): 32:07.77",
+            "6.95e+08 particle-steps/s on 2 threads (1.12e9 on 2026-11-27 afternoon)",
+        ],
+        "its last timing from empty on a 2-core machine was 32 min 8 s, on a day the machine ran "
+        "1.6 times slower",
+        {"1.6": "1.12e9 / 6.95e+08"},
+    ),
+    C(
+        R,
         "from_empty_2026-11-27.txt",
         ["Elapsed (wall clock) time (h:mm:ss or m:ss): 19:56.19"],
-        "its last timing from empty on a 2-core machine was 19 min 56 s",
+        "than for the previous 19 min 56 s",
     ),
     C(
         R,
@@ -1026,6 +1075,40 @@ CLAIMS = [
         "fails to converge for steps above a few 1e-38, where at 1e-32 the steps grow past 100 "
         "within a minute",
     ),
+    C(
+        P,
+        "from_empty_2026-11-28.txt",
+        [
+            "Elapsed (wall clock) time (h:mm:ss or m:ss): 32:07.77",
+            "total 183 3841",
+            "Maximum resident set size (kbytes): 580596",
+            "md 30 2074",
+            "relaxation 6 469",
+            "relaxation_rates_md 14 457",
+            "md_scaling 18 197",
+            "relaxation_md 3 149",
+            "relaxation_md_control 2 102",
+            "figure 16 97",
+        ],
+        "**32 min 8 s** wall, 183 jobs, 3841 job-seconds, peak memory 580596 kB; job-seconds per "
+        "rule: md 2074, relaxation 469, relaxation_rates_md 457, md_scaling 197, relaxation_md "
+        "149, relaxation_md_control 102, figure 97",
+    ),
+    C(
+        P,
+        "from_empty_2026-11-28.txt",
+        ["6.95e+08 particle-steps/s on 2 threads (1.12e9 on 2026-11-27 afternoon)"],
+        "gave the previous MD kernel 6.95e+08 particle-steps/s on 2 threads, against 1.12e9 on the "
+        "afternoon of the runs above, a factor 1.6,",
+        {"1.6": "1.12e9 / 6.95e+08"},
+    ),
+    C(
+        P,
+        "from_empty_2026-11-27.txt",
+        ["relaxation                   6      118"],
+        "The relaxation rule (118 job-seconds above",
+    ),
+    C(P, "from_empty_2026-11-28.txt", ["relaxation 6 469"], "469 here) grew fourfold"),
     # ------------------------------------------------------------------ findings: early window
     C(
         F,
