@@ -596,8 +596,8 @@ CLAIMS = [
             "field (bw)/(cw) 0.835 +- 0.14",
             "field (bw)/(cw) b = -0.072 +- 0.022",
         ],
-        "is 1.429 +- 0.22 times the dressed theory fitted alike at N = 1000, 0.9969 +- 0.11 at 4000 "
-        "and 0.728 +- 0.1 to 0.835 +- 0.14 at N >= 2.56e5 (exponent -0.072 +- 0.022)",
+        "is 1.429 +- 0.22 times the dressed theory fitted alike at N = 1000, 0.9969 +- 0.11 at "
+        "4000 and 0.728 +- 0.1 to 0.835 +- 0.14 at N >= 2.56e5 (exponent -0.072 +- 0.022)",
     ),
     C(
         F,
