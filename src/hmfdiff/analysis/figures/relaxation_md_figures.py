@@ -195,18 +195,7 @@ def fig13_relaxation_time(inputs, pdf, png):
                 band = _band(ds, key)
                 if band is not None:
                     ax.axhspan(*band, color=c, alpha=0.15, lw=0, label=f"{label}: grid, harmonics")
-                model = f"{key}_layer_model"
-                if model in ds:
-                    ax.plot(
-                        ds[f"N_layer_{eq}"].values,
-                        ds[model].values,
-                        color=c,
-                        ls=ls,
-                        marker="v",
-                        ms=4,
-                        lw=0.8,
-                        label=rf"{label}, layer $|\kappa-1|<\delta(N)$ mixed",
-                    )
+                _layer_model_line(ax, ds, eq, label, c, ls, lambda tau: tau)
         ax.set_xscale("log")
         if not np.isfinite(tr).any():
             ax.text(
@@ -232,6 +221,27 @@ def fig13_relaxation_time(inputs, pdf, png):
     tag_panels(axes, titles)
     fig.tight_layout()
     save_figure(fig, pdf, png, inputs, "Fig. 13: relaxation time per particle against N")
+
+
+def _layer_model_line(ax, ds, eq, label, c, ls, transform):
+    """The finite-N layer model's tau_R^coarse(N) of `eq` (`tau_relax_coarse_{eq}_layer_model`
+    on `N_layer_{eq}`), drawn as transform(tau) against N if the dataset has it; returns the
+    sizes drawn (empty if none)."""
+    model = f"tau_relax_coarse_{eq}_layer_model"
+    if model not in ds:
+        return np.empty(0)
+    n = ds[f"N_layer_{eq}"].values.astype(float)
+    ax.plot(
+        n,
+        transform(ds[model].values),
+        color=c,
+        ls=ls,
+        marker="v",
+        ms=4,
+        lw=0.8,
+        label=rf"{label}, layer $|\kappa-1|<\delta(N)$ mixed",
+    )
+    return n
 
 
 def _rate_panel(ax, ds, key, ylabel):
@@ -333,19 +343,8 @@ def fig16_relaxation_rates(inputs, pdf, png):
             band = _band(cmp_, key)
             if band is not None:
                 ax.axhspan(1.0 / band[1], 1.0 / band[0], color=c, alpha=0.15, lw=0)
-            model = f"{key}_layer_model"
-            if model in cmp_:
-                ax.plot(
-                    cmp_[f"N_layer_{eq}"].values,
-                    1.0 / cmp_[model].values,
-                    color=c,
-                    ls=ls,
-                    marker="v",
-                    ms=4,
-                    lw=0.8,
-                    label=rf"{label}, layer $|\kappa-1|<\delta(N)$ mixed",
-                )
-                n_all = np.concatenate((n_all, cmp_[f"N_layer_{eq}"].values.astype(float)))
+            n_layer = _layer_model_line(ax, cmp_, eq, label, c, ls, lambda tau: 1.0 / tau)
+            n_all = np.concatenate((n_all, n_layer))
     ax.set_xscale("log")
     ax.set_xlim(n_all.min() / 2, max(n_all.max() * 2, ds["N"].values.max() * 1.5))
     ax.set_ylim(0.0, None)
