@@ -270,6 +270,9 @@ EARLY = "early_rate.txt"
 EXC = "separatrix_excursions.txt"
 #: field or response at the hot halo's core edge (studies/spectrum_scaling.py)
 SSH = "spectrum_scaling_hothalo.txt"
+E64 = "experiments/hothalo_early_64k/relaxation_rates_corehalo_hothalo_summary.txt"
+EEB = "early_entropy_budget.txt"
+MT = "mode_trapping.txt"
 #: the finite-N departures' exponents (studies/finite_n_exponents.py)
 FNE = "finite_n_exponents.txt"
 FNE_RELAX = [
@@ -1894,11 +1897,165 @@ CLAIMS = [
         "dynamical times, to -2.97e-04 +- 2.5e-04 over its 112 bins, with mean z^2 of the paired "
         "differences 0.83 and none beyond |z| = 3",
     ),
+    # the independent early window at N = 6.4e4, its budget, and the mode in the N-body
+    C(
+        F,
+        E64,
+        [
+            "N = 64000 (R = 24): dS/tau* = 0.003908 +- 0.00057",
+            "/lenard_balescu 0.66 +- 0.10; control 0.00033 +- 0.0002)",
+            "/lenard_balescu 0.71 +- 0.14",
+        ],
+        "dS/tau* = 0.003908 +- 0.00057, 0.66 +- 0.10 times Lenard-Balescu's (control "
+        "0.00033 +- 0.0002), and a current through the core's edge 0.71 +- 0.14 times",
+    ),
+    C(
+        F,
+        EEB,
+        [
+            "0.1046 0.89 +- 0.21 0.70 +- 0.15 0.76 +- 0.12",
+            "0.1546 0.77 +- 0.14 0.77 +- 0.17 0.77 +- 0.11",
+            "0.2287 0.85 +- 0.25 0.73 +- 0.11 0.75 +- 0.10",
+            "0.3381 0.50 +- 0.14 0.61 +- 0.10 0.57 +- 0.08",
+            "0.5000 0.78 +- 0.07 0.66 +- 0.10 0.74 +- 0.06",
+        ],
+        "the ratio to Lenard-Balescu is flat in time from tau = 0.1 on: 0.76 +- 0.12, "
+        "0.77 +- 0.11, 0.75 +- 0.10, 0.57 +- 0.08, 0.74 +- 0.06 at the last five samples",
+    ),
+    C(
+        F,
+        EEB,
+        [
+            "0.1242 -0.00241 -0.00093 -0.00080 0.00010 +1.3",
+            "0.2484 -0.00141 -0.00091 -0.00047 0.00006 +8.0",
+            "0.3726 -0.00049 -0.00013 +0.00024 0.00007 +5.5",
+            "1.6147 +0.00139 +0.00086 +0.00056 0.00005 -6.1",
+        ],
+        "(-0.00080 +- 0.00010 against -0.00093, z = +1.3), but the particles that leave the "
+        "core stay closer to it: below J-bar = 0.2484 the change is -0.00047 +- 0.00006 "
+        "against -0.00091 (z = +8.0), below 0.3726 it is +0.00024 +- 0.00007 against -0.00013 "
+        "(z = +5.5), and at the halo's edge, below 1.6147, +0.00056 +- 0.00005 against "
+        "+0.00086 (z = -6.1). The bins from 0.1242 to 0.2484 hold",
+    ),
+    C(
+        F,
+        MT,
+        ["bounce frequency of its n = 2 resonant orbits", "(J-bar 0.2240)"],
+        "hold the n = 2 resonance of the hot halo's weakly damped mode (J-bar = 0.2240;",
+    ),
+    C(
+        F,
+        MT,
+        "(48 at N = 1e3, 4e3; 32 at 1.6e4; 24 at 6.4e4)",
+        "48, 48, 32, 24 realisations",
+    ),
+    C(
+        F,
+        MT,
+        [
+            "summed over omega0 - 0.15 ... omega0 + 0.06,",
+            "at mode 0.264 +- 0.038; band 0.823 +- 0.056; shift -0.0244 +- 0.0037 (halves "
+            "-0.0211 +- 0.0034, -0.0245 +- 0.0038)",
+            "at mode 0.366 +- 0.038; band 0.934 +- 0.047; shift -0.0161 +- 0.0019 (halves "
+            "-0.0167 +- 0.0023, -0.0165 +- 0.0023)",
+            "at mode 0.545 +- 0.064; band 0.918 +- 0.037; shift -0.0070 +- 0.0019",
+            "at mode 0.724 +- 0.174; band 0.928 +- 0.076; shift -0.0041 +- 0.0036",
+        ],
+        "Over the band omega0 - 0.15 ... omega0 + 0.06 the N-body's power is 0.823 +- 0.056, "
+        "0.934 +- 0.047, 0.918 +- 0.037, 0.928 +- 0.076 of the linear theory's at N = 1e3 ... "
+        "6.4e4, but the centroid of its spectrum there, minus the theory's, is -0.0244 +- "
+        "0.0037, -0.0161 +- 0.0019, -0.0070 +- 0.0019, -0.0041 +- 0.0036: within one Welch "
+        "resolution of omega0 the N-body has 0.264 +- 0.038, 0.366 +- 0.038, 0.545 +- 0.064, "
+        "0.724 +- 0.174 of the linear power. The shift is there from the start of the runs, not "
+        "growing as the core's edge relaxes: in their first and second halves it is -0.0211 +- "
+        "0.0034 and -0.0245 +- 0.0038 at N = 1e3, -0.0167 +- 0.0023 and -0.0165 +- 0.0023",
+    ),
+    C(
+        F,
+        MT,
+        [
+            "bounce frequency of its n = 2 resonant orbits",
+            "omega_b = 0.0235, omega_b / gamma = 3.16",
+            "omega_b = 0.0166, omega_b / gamma = 2.23",
+            "omega_b / gamma = 1.58",
+            "omega_b / gamma = 1.12",
+        ],
+        "The bounce frequency of its n = 2 resonant orbits in the mode's linear amplitude a, "
+        "omega_b = n sqrt(|dOmega/dJ| a |c_n|), is 0.0235 and 0.0166 at N = 1e3 and 4e3, the "
+        "size of the shift there; omega_b / gamma = 3.16, 2.23, 1.58, 1.12 at N = 1e3",
+    ),
+    C(F, MT, "omega_b = gamma at N = 9.97e+04", "omega_b = gamma only at N = 9.97e4"),
+    C(
+        F,
+        MT,
+        [
+            "corehalo_hothalo_b20: omega0 = 1.54749, gamma = 0.02514",
+            "shift -0.0172 +- 0.0028",
+            "shift -0.0137 +- 0.0028",
+            "shift -0.0013 +- 0.0017",
+            "omega_b / gamma = 1.17, shift / gamma = -0.684",
+            "omega_b / gamma = 0.827, shift / gamma = -0.544",
+            "omega_b / gamma = 0.585, shift / gamma = -0.0517",
+            "omega_b / gamma = 3.16, shift / gamma = -3.28",
+            "omega_b / gamma = 2.23, shift / gamma = -2.17",
+            "omega_b / gamma = 1.58, shift / gamma = -0.941",
+            "omega_b / gamma = 1.12, shift / gamma = -0.557",
+        ],
+        "(gamma = 0.02514) the shift is -0.0172 +- 0.0028, -0.0137 +- 0.0028, -0.0013 +- "
+        "0.0017 at N = 1e3, 4e3, 1.6e4 (omega_b / gamma = 1.17, 0.827, 0.585); in units of "
+        "gamma the shifts of the two states order by omega_b / gamma, as trapping predicts: "
+        "-3.28, -2.17, -0.941, -0.684, -0.557, -0.544, -0.0517 at omega_b / gamma = 3.16, "
+        "2.23, 1.58, 1.17, 1.12, 0.827, 0.585",
+    ),
+    C(
+        F,
+        MT,
+        [
+            "corehalo_hothalo_b10: omega0 = 1.44224, gamma = 0.07560",
+            "shift -0.0139 +- 0.0024",
+            "shift -0.0126 +- 0.0029",
+            "omega_b / gamma = 0.599",
+            "omega_b / gamma = 0.424",
+        ],
+        "(gamma = 0.07560) a shift of -0.0139 +- 0.0024 and -0.0126 +- 0.0029 remains at "
+        "N = 1e3 and 4e3, where omega_b / gamma = 0.599 and 0.424",
+    ),
+    C(
+        P,
+        "track_count_u0.0_full.txt",
+        [
+            "(n_track 100000)",
+            "(n_track 10000); 20 seeds",
+            "bins compared: 28 of 30; error B / error A: median 1.001, range 0.925-1.060;",
+            "mean 0.0116, max 0.0365",
+        ],
+        "With the same 20 seeds of the u = 0 MD(full), so that every realisation's field is the "
+        "same, tracking 10000 of the N instead of 100000 leaves the error of every bin unchanged: "
+        "over the 28 bins compared the ratio of the errors has median 1.001 (range "
+        "0.925-1.060), and the variance of the paired difference is on average 0.0116 of the "
+        "seeds' variance (at most 0.0365)",
+    ),
+    C(
+        P,
+        "md_job_parts_2026-11-28.txt",
+        [
+            "N = 500000, 120000 tracked",
+            "present 13.13 s (integration 7.65, actions 2.78, accumulation 2.55,",
+        ],
+        "realisation at N = 5e5 with 120000 tracked (`md.n_track` of the N and the test "
+        "particles), "
+        "13.13 s, the actions take 2.78 s and their accumulation 2.55 s, the integration 7.65 s",
+    ),
 ]
 
 
 #: numbers that are parameters, definitions or names, not results: (page, phrase)
 CONTEXT = [
+    ("docs/performance.md", "Tracking 10000 would save about 30 %"),
+    ("docs/performance.md", "The default stays at 100000"),
+    ("docs/findings.md", "seed 3, 24 realisations at N = 6.4e4"),
+    ("docs/findings.md", "With beta1 = 20 "),
+    ("docs/findings.md", "But with beta1 = 10 "),
     ("docs/findings.md", "at N = 1e3 to 3.2e4,"),
     ("docs/findings.md", "delta ~ N^-1/2"),
     ("docs/findings.md", "(Shaing et al., Phys. Plasmas 15, 082506, 2008)"),

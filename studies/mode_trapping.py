@@ -1,0 +1,245 @@
+"""Is the hot halo's weakly damped mode nonlinear at the paper's N?  Trapping in the mode's field.
+
+The hot halo (beta1 = 40) has a weakly damped eps_cc mode, omega0 - i gamma = 1.586 - 0.0074i
+(docs/reference/damped_modes.txt), whose n = 2 resonance 2 Omega(J) = omega0 lies at
+J-bar = 0.224, just outside the core.  The Lenard-Balescu dressing treats the noise-driven mode
+linearly: its resonant particles respond to it as to a field of coherence time 1/gamma.  That
+holds while they cannot complete a bounce in it within that time, omega_b << gamma, with
+omega_b the bounce (trapping) frequency of the resonant particles in the mode's own field:
+near the resonance, with psi = n w - omega0 t and the mode dM_x = a cos(omega0 t),
+H = (1/2) Omega' dJ^2 - a |c_n| cos psi, so omega_b = n sqrt(|Omega'| a |c_n|), Omega' = dOmega/dJ
+and a = sqrt(2 <dM_x^2>_mode), <dM_x^2>_mode the linear dressed spectrum's power within
++-10 gamma of omega0.  Since a ~ N^-1/2, omega_b / gamma ~ N^-1/4: the linear (order-1/N)
+regime is reached only where omega_b / gamma < 1.
+
+Three steps:
+
+    python studies/mode_trapping.py theory                      # omega_b / gamma against N
+    python studies/mode_trapping.py run OUT CASE N FIRST LAST   # MD(full) realisations
+    python studies/mode_trapping.py analyse OUT [CASE ...]      # the mode in the MD
+
+`theory` prints, for the hot halo and the same state with a warmer core (beta1 = 20, 10; the
+cases of config/experiments/hothalo_marginal.yaml), the least-damped eps_cc mode, the resonance
+and omega_b / gamma at N = 1e3 ... 1e7.  `run` draws MD(full) realisations of CASE at N with the
+md_scaling study's hot-halo run settings (t_max 1000, m_every 0.25, max_lag 500), seed s as
+that study's seed s.  `analyse` compares the MD's Welch N S_x of each (case, N) with the linear
+dressed theory smoothed by the same window (jackknife errors over realisations): (i) at the
+mode, one resolution width (2 pi / segment) either side of omega0; (ii) the power of the band
+omega0 - 0.15 ... omega0 + 0.06, which holds the mode's peak; (iii) the centroid of N S_x over
+that band against the theory's, the shift of the peak, in the whole run and in its two halves
+(t < t_max / 2 and after: a shift that grows as the core's edge relaxes, ~ (t/N)^1/2, against
+one set from the start), and in units of gamma beside omega_b / gamma.  Trapping predicts a
+shift that depends on omega_b / gamma alone, whatever the state; an effect of N alone (the
+separatrix layer, the order-1/N^2 collision terms) the same shift at the same N.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+CONFIG = "config/config.yaml"
+MARGINAL = "config/experiments/hothalo_marginal.yaml"
+CASES = ("corehalo_hothalo", "corehalo_hothalo_b20", "corehalo_hothalo_b10")
+SIZES = (1e3, 4e3, 1.6e4, 6.4e4, 2.56e5, 5e5, 1e6, 4e6, 1e7)
+HARMONIC = 2  # the mode is even (eps_cc): the librating orbits' lowest even harmonic
+
+
+def case_spec(case):
+    """The case's state spec, from config.yaml or the hothalo_marginal experiment."""
+    for path in (CONFIG, MARGINAL):
+        with open(path) as f:
+            cases = yaml.safe_load(f).get("cases") or {}
+        if case in cases:
+            return cases[case]
+    sys.exit(f"error: case {case!r} in neither {CONFIG} nor {MARGINAL}")
+
+
+def mode_parameters(case):
+    """(state, omega0, gamma, N <dM_x^2>_mode, resonance dict) of the case's least-damped
+    eps_cc mode."""
+    from hmfdiff.kinetic.dielectric import DielectricTensor
+    from hmfdiff.kinetic.modes import least_damped_modes
+    from hmfdiff.kinetic.spectrum import bath_spectrum
+    from hmfdiff.meanfield import orbits
+    from hmfdiff.meanfield.equilibrium import make_state
+    from hmfdiff.meanfield.fourier import cos_coefficient
+
+    state = make_state(case_spec(case))
+    M0 = float(state.M0)
+    tensor = DielectricTensor(state)
+    rep = least_damped_modes(state, "cc", tensor=tensor)
+    z = rep.zeros[rep.stable_mask][0]
+    omega0, gamma = float(z.real), float(-z.imag)
+    w = np.linspace(omega0 - 10 * gamma, omega0 + 10 * gamma, 4001)
+    dressed = bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
+    power = 2.0 * np.trapezoid(dressed, w) / (2.0 * np.pi)  # both signs of omega
+    kappa = float(orbits.kappa_from_frequency(omega0 / HARMONIC, M0, "libration"))
+    res = {
+        "kappa": kappa,
+        "jbar": float(orbits.rescaled_action(kappa, M0)),
+        "c_n": float(cos_coefficient(HARMONIC, kappa)),
+        "dOmega_dJ": float(orbits.dOmega_dkappa(kappa, M0) / orbits.dJ_dkappa(kappa, M0)),
+        "peak": float(np.max(1.0 / np.abs(tensor(w)[0]) ** 2)),
+    }
+    return state, omega0, gamma, power, res
+
+
+def bounce_over_gamma(N, gamma, power, res):
+    """omega_b / gamma at N (module docstring)."""
+    a = np.sqrt(2.0 * power / N)
+    return HARMONIC * np.sqrt(abs(res["dOmega_dJ"]) * a * abs(res["c_n"])) / gamma
+
+
+def theory():
+    print("# The least-damped eps_cc mode and the bounce frequency of its n = 2 resonant orbits")
+    print("# (studies/mode_trapping.py theory); N <dM_x^2>_mode: linear dressed power within")
+    print("# +-10 gamma of omega0 (both signs of omega)")
+    for case in CASES:
+        state, omega0, gamma, power, res = mode_parameters(case)
+        print(
+            f"{case}: M0 = {state.M0:.5f}, omega0 = {omega0:.5f}, gamma = {gamma:.5f}, "
+            f"peak |1/eps_cc|^2 = {res['peak']:.4g}, N <dM_x^2>_mode = {power:.4g}; resonance "
+            f"kappa = {res['kappa']:.4f} (J-bar {res['jbar']:.4f}), c_2 = {res['c_n']:.4f}, "
+            f"dOmega/dJ = {res['dOmega_dJ']:.4f}"
+        )
+        cells = ", ".join(f"{N:.3g}: {bounce_over_gamma(N, gamma, power, res):.3g}" for N in SIZES)
+        print(f"  omega_b / gamma at N = {cells}")
+        cross = (2.0 * power) * (
+            HARMONIC**2 * abs(res["dOmega_dJ"]) * abs(res["c_n"]) / gamma**2
+        ) ** 2
+        print(f"  omega_b = gamma at N = {cross:.3g}")
+
+
+def md_run(case, n):
+    """The md_scaling study's hot-halo MD(full) record at size n, for `case`."""
+    from hmfdiff.dynamics.runs import md_scaling_runs
+
+    with open(CONFIG) as f:
+        cfg = yaml.safe_load(f)
+    runs = {
+        k[2]: r for k, r in md_scaling_runs(cfg).items() if k[:2] == ("corehalo_hothalo", "full")
+    }
+    rec = runs[int(n)] if int(n) in runs else runs[min(runs)]
+    return dataclasses.replace(rec, n_particles=int(n), case=case)
+
+
+def run(out, case, n, first, last):
+    from hmfdiff.dynamics.md import run_md
+    from hmfdiff.meanfield.equilibrium import make_state
+    from hmfdiff.pipeline.io import write_dataset
+    from hmfdiff.pipeline.layouts.md import md_dataset
+
+    rec = md_run(case, n)
+    state = make_state(case_spec(case))
+    folder = Path(out) / case / f"N{int(n)}"
+    folder.mkdir(parents=True, exist_ok=True)
+    for seed in range(int(first), int(last) + 1):
+        path = folder / f"seed{seed}.nc"
+        if path.exists():
+            continue
+        t0 = time.perf_counter()
+        ds = md_dataset(run_md(state, rec, seed, 1, progress=None))
+        prov = {"md": rec.to_dict(realisation_only=True), "seed": seed, "M0": state.M0}
+        write_dataset(ds, path, prov, case=case)
+        print(f"{case} N = {n} seed {seed}: {time.perf_counter() - t0:.1f} s", flush=True)
+
+
+def _spectra(data, N, part, seg):
+    """Welch N S_x (realisations, frequencies) of the samples `part` of each realisation."""
+    from hmfdiff.analysis.fluctuations import welch_spectrum
+    from hmfdiff.analysis.md_spectrum import _slow_frame
+
+    dt = float(data[0].attrs["m_every"])
+    rows = []
+    for ds in data:
+        px, _ = _slow_frame(ds["Mx_fine"].values[part], ds["My_fine"].values[part], seg)
+        om, S, _, _ = welch_spectrum(px[None, :], dt, seg)
+        rows.append(N * S)
+    return om, np.array(rows), dt
+
+
+def analyse(out, cases):
+    from hmfdiff.analysis.md_spectrum import smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+    from hmfdiff.kinetic.dielectric import DielectricTensor
+    from hmfdiff.kinetic.spectrum import bath_spectrum
+    from hmfdiff.pipeline.io import read_dataset
+
+    print("# The mode in MD(full) against the linear dressed theory (studies/mode_trapping.py")
+    print("# analyse; +- jackknife over realisations).  at mode: N S_x within one resolution")
+    print(
+        "# width of omega0, MD / linear; band: N S_x summed over omega0 - 0.15 ... omega0 + 0.06,"
+    )
+    print("# MD / linear; shift: centroid of N S_x over the band, MD - linear (whole run; first")
+    print("# and second half of the run, segments of half the length)")
+    for case in cases:
+        state, omega0, gamma, power, res = mode_parameters(case)
+        tensor = DielectricTensor(state)
+
+        def dressed(w, state=state, tensor=tensor):
+            return bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
+
+        print(f"{case}: omega0 = {omega0:.5f}, gamma = {gamma:.5f}")
+        for folder in sorted((Path(out) / case).glob("N*"), key=lambda p: int(p.name[1:])):
+            files = sorted(folder.glob("seed*.nc"))
+            if len(files) < 4:
+                continue
+            data = [read_dataset(p) for p in files]
+            N = float(data[0].attrs["N"])
+            n_t = min(ds.sizes["time_fine"] for ds in data)
+            seg = int(round(float(data[0].attrs["max_lag"]) / float(data[0].attrs["m_every"])))
+            cells = []
+            for part, length in (
+                (slice(0, n_t), seg),
+                (slice(0, n_t // 2), seg // 2),
+                (slice(n_t // 2, n_t), seg // 2),
+            ):
+                om, S, dt = _spectra(data, N, part, length)
+                band = (om > omega0 - 0.15) & (om < omega0 + 0.06)
+                th = smoothed(dressed, om[band], length, dt)
+
+                def centroid(v, om=om[band]):
+                    return float((v * om).sum() / v.sum())
+
+                shift, shift_err = jackknife(S[:, band], lambda v, c=centroid: c(v.mean(0)))
+                cells.append((shift - centroid(th), shift_err))
+                if length == seg:
+                    near = np.abs(om - omega0) <= 2.0 * np.pi / (seg * dt) * (1 + 1e-9)
+                    th_near = smoothed(dressed, om[near], seg, dt).mean()
+                    at, at_err = jackknife(
+                        S[:, near].mean(axis=1), lambda v, t=th_near: v.mean() / t
+                    )
+                    total = float(th.sum())
+                    pw, pw_err = jackknife(S[:, band], lambda v, t=total: v.mean(0).sum() / t)
+            x = bounce_over_gamma(N, gamma, power, res)
+            (sh, she), (s1, s1e), (s2, s2e) = cells
+            print(
+                f"  N = {N:.0f} ({len(files)} realisations): at mode {at:.3f} +- {at_err:.3f}; "
+                f"band {pw:.3f} +- {pw_err:.3f}; shift {sh:+.4f} +- {she:.4f} (halves "
+                f"{s1:+.4f} +- {s1e:.4f}, {s2:+.4f} +- {s2e:.4f}); omega_b = "
+                f"{x * gamma:.4f}, omega_b / gamma = {x:.3g}, shift / gamma = {sh / gamma:+.3g}",
+                flush=True,
+            )
+
+
+def main(argv):
+    if not argv or argv[0] not in ("theory", "run", "analyse"):
+        sys.exit(__doc__)
+    if argv[0] == "theory":
+        theory()
+    elif argv[0] == "run":
+        if len(argv) != 6:
+            sys.exit("usage: mode_trapping.py run OUT CASE N FIRST LAST")
+        run(argv[1], argv[2], float(argv[3]), argv[4], argv[5])
+    else:
+        analyse(argv[1], argv[2:] or CASES)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
