@@ -1,0 +1,87 @@
+"""studies/mode_trapping.py: the bounce frequency it compares with the mode's damping, against
+the trapped orbits of the resonance's pendulum integrated numerically, and the reference
+file's omega_b / gamma against that formula (a stale reference fails)."""
+
+import importlib.util
+import re
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _study():
+    spec = importlib.util.spec_from_file_location(
+        "mode_trapping", ROOT / "studies" / "mode_trapping.py"
+    )
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    return study
+
+
+def _pendulum_period(n, dOmega_dJ, A, dJ0):
+    """Period of psi = n w - omega0 t for H = Omega' dJ^2 / 2 - A cos psi (near the resonance
+    n Omega = omega0): d psi/dt = n Omega' dJ, d dJ/dt = -n A sin psi, started with a small dJ0
+    at the stable point (psi = 0 for Omega' > 0, pi for Omega' < 0)."""
+    psi0 = 0.0 if dOmega_dJ > 0 else np.pi
+
+    def rhs(t, y):
+        return [n * dOmega_dJ * y[1], -n * A * np.sin(y[0])]
+
+    def through(t, y):  # psi through its stable point in the starting direction: once a period
+        return y[0] - psi0
+
+    through.direction = np.sign(n * dOmega_dJ * dJ0)
+    guess = 2 * np.pi / (n * np.sqrt(abs(dOmega_dJ) * A))
+    sol = solve_ivp(
+        rhs,
+        (0, 10.5 * guess),
+        [psi0, dJ0],
+        events=through,
+        rtol=1e-11,
+        atol=1e-15,
+        max_step=guess / 50,
+    )
+    t = sol.t_events[0]
+    t = t[t > 0.5 * guess]
+    assert t.size >= 5
+    return np.mean(np.diff(t))
+
+
+def test_bounce_frequency_is_the_small_oscillation_of_the_resonance_pendulum():
+    study = _study()
+    for n, dOm, c_n, power, N, gamma in [
+        (2, -0.1398, 0.1268, 0.03013, 4000, 0.00742),
+        (1, -0.13, 0.295, 0.007, 1000, 0.019),
+    ]:
+        res = {"dOmega_dJ": dOm, "c_n": c_n}
+        study.HARMONIC = n
+        wb = study.bounce_over_gamma(N, gamma, power, res) * gamma
+        A = np.sqrt(2 * power / N) * c_n  # the mode's amplitude times the orbit's coefficient
+        # small oscillations: a trapped orbit far inside the separatrix of the resonance
+        dJ0 = 1e-3 * np.sqrt(A / abs(dOm))
+        period = _pendulum_period(n, dOm, A, dJ0)
+        assert abs(2 * np.pi / period / wb - 1) < 1e-4, (n, wb, 2 * np.pi / period)
+
+
+def test_reference_bounce_ratios_follow_from_its_mode_parameters():
+    study = _study()
+    text = (ROOT / "docs" / "reference" / "mode_trapping.txt").read_text()
+    head = re.compile(
+        r"(\w+): M0 = [\d.]+, omega0 = [\d.]+, gamma = ([\d.]+), peak \S+ = [\d.]+, "
+        r"N <dM_x\^2>_mode = ([\d.]+); resonance kappa = [\d.]+ \(J-bar [\d.]+\), "
+        r"c_2 = ([\d.]+), dOmega/dJ = (-?[\d.]+)\n  omega_b / gamma at N = (.*)"
+    )
+    found = head.findall(text)
+    assert len(found) == 3
+    for _case, gamma, power, c2, dOm, cells in found:
+        res = {"dOmega_dJ": float(dOm), "c_n": float(c2)}
+        for cell in cells.split(", "):
+            N, said = cell.split(": ")
+            x = study.bounce_over_gamma(float(N), float(gamma), float(power), res)
+            # printed to 3 figures, from mode parameters themselves rounded to about 4
+            y = float(said)
+            tol = 0.5 * 10.0 ** (np.floor(np.log10(y)) - 2) + 1e-3 * y
+            assert abs(x - y) <= tol, (N, x, said)
