@@ -180,10 +180,9 @@ def main(argv=None):
         f"{ds_md.sum():+10.5f}  {ds_md.sum() / ds_kin['lenard_balescu'].sum():6.2f}"
         f"   (files' dS: LB {lb_dS[-1]:+.5f}, N-body pooled {pm[-1]:+.5f} +- {pe[-1]:.5f})"
     )
-    text = "\n".join(out) + "\n"
-    if args.out:
-        Path(args.out).write_text(text)
-    sys.stdout.write(text)
+    from _realisations import emit
+
+    emit(out, args.out)
 
 
 if __name__ == "__main__":

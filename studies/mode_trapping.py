@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import dataclasses
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -130,24 +129,13 @@ def md_run(case, n):
 
 
 def run(out, case, n, first, last):
-    from hmfdiff.dynamics.md import run_md
-    from hmfdiff.meanfield.equilibrium import make_state
-    from hmfdiff.pipeline.io import write_dataset
-    from hmfdiff.pipeline.layouts.md import md_dataset
+    from _realisations import draw_realisations
 
-    rec = md_run(case, n)
-    state = make_state(case_spec(case))
+    from hmfdiff.meanfield.equilibrium import make_state
+
     folder = Path(out) / case / f"N{int(n)}"
-    folder.mkdir(parents=True, exist_ok=True)
-    for seed in range(int(first), int(last) + 1):
-        path = folder / f"seed{seed}.nc"
-        if path.exists():
-            continue
-        t0 = time.perf_counter()
-        ds = md_dataset(run_md(state, rec, seed, 1, progress=None))
-        prov = {"md": rec.to_dict(realisation_only=True), "seed": seed, "M0": state.M0}
-        write_dataset(ds, path, prov, case=case)
-        print(f"{case} N = {n} seed {seed}: {time.perf_counter() - t0:.1f} s", flush=True)
+    state = make_state(case_spec(case))
+    draw_realisations(folder, state, md_run(case, n), first, last, case, f"{case} N = {n} ")
 
 
 def _spectra(data, N, part, seg):

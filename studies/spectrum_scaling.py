@@ -48,7 +48,6 @@ from __future__ import annotations
 
 import dataclasses
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -72,24 +71,13 @@ def scaling_run(n, config=CONFIG):
 
 
 def run(out, n, first, last):
-    from hmfdiff.dynamics.md import run_md
+    from _realisations import draw_realisations
+
     from hmfdiff.meanfield.equilibrium import make_state
-    from hmfdiff.pipeline.io import write_dataset
-    from hmfdiff.pipeline.layouts.md import md_dataset
 
     cfg, rec = scaling_run(int(n))
     state = make_state(cfg["cases"][CASE])
-    folder = Path(out) / f"N{int(n)}"
-    folder.mkdir(parents=True, exist_ok=True)
-    for seed in range(int(first), int(last) + 1):
-        path = folder / f"seed{seed}.nc"
-        if path.exists():
-            continue
-        t0 = time.perf_counter()
-        ds = md_dataset(run_md(state, rec, seed, 1, progress=None))
-        prov = {"md": rec.to_dict(realisation_only=True), "seed": seed, "M0": state.M0}
-        write_dataset(ds, path, prov, case=CASE)
-        print(f"N = {n} seed {seed}: {time.perf_counter() - t0:.1f} s", flush=True)
+    draw_realisations(Path(out) / f"N{int(n)}", state, rec, first, last, CASE, f"N = {n} ")
 
 
 N_MAX = 8

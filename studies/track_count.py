@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -59,10 +58,9 @@ def main(argv=None):
         f"the seeds' variance of A: mean {np.mean(vd[ok] / va[ok]):.4f}, "
         f"max {np.max(vd[ok] / va[ok]):.4f}"
     )
-    text = "\n".join(out) + "\n"
-    if args.out:
-        Path(args.out).write_text(text)
-    sys.stdout.write(text)
+    from _realisations import emit
+
+    emit(out, args.out)
 
 
 if __name__ == "__main__":

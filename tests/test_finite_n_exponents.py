@@ -3,19 +3,16 @@ reference files beside it: a rebuilt relaxation summary or spectrum table that i
 without rerunning the study makes this fail (the exponents the docs quote would be stale)."""
 
 import contextlib
-import importlib.util
 import io
 from pathlib import Path
+
+from _studies import load_study
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_exponents_file_is_the_study_output_of_the_reference_files():
-    spec = importlib.util.spec_from_file_location(
-        "finite_n_exponents", ROOT / "studies" / "finite_n_exponents.py"
-    )
-    study = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(study)
+    study = load_study("finite_n_exponents")
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         study.main([])

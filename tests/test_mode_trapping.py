@@ -2,23 +2,14 @@
 the trapped orbits of the resonance's pendulum integrated numerically, and the reference
 file's omega_b / gamma against that formula (a stale reference fails)."""
 
-import importlib.util
 import re
 from pathlib import Path
 
 import numpy as np
+from _studies import load_study
 from scipy.integrate import solve_ivp
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def _study():
-    spec = importlib.util.spec_from_file_location(
-        "mode_trapping", ROOT / "studies" / "mode_trapping.py"
-    )
-    study = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(study)
-    return study
 
 
 def _pendulum_period(n, dOmega_dJ, A, dJ0):
@@ -51,7 +42,7 @@ def _pendulum_period(n, dOmega_dJ, A, dJ0):
 
 
 def test_bounce_frequency_is_the_small_oscillation_of_the_resonance_pendulum():
-    study = _study()
+    study = load_study("mode_trapping")
     for n, dOm, c_n, power, N, gamma in [
         (2, -0.1398, 0.1268, 0.03013, 4000, 0.00742),
         (1, -0.13, 0.295, 0.007, 1000, 0.019),
@@ -67,7 +58,7 @@ def test_bounce_frequency_is_the_small_oscillation_of_the_resonance_pendulum():
 
 
 def test_reference_bounce_ratios_follow_from_its_mode_parameters():
-    study = _study()
+    study = load_study("mode_trapping")
     text = (ROOT / "docs" / "reference" / "mode_trapping.txt").read_text()
     head = re.compile(
         r"(\w+): M0 = [\d.]+, omega0 = [\d.]+, gamma = ([\d.]+), peak \S+ = [\d.]+, "
