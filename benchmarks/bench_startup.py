@@ -11,9 +11,10 @@ plus scipy.optimize for the scripts that rebuild a state (`BUILDS_A_STATE`); the
 rule writes netCDF files or figures with provenance, the versions a write records
 (`hmfdiff.pipeline.io._versions`, which imported the libraries whose versions it names).
 Imports made inside functions at run time (pyplot in a figure) and the Snakemake preamble (the
-same in both trees) are not counted.  Two clocks: `import` (the import statements, timed
-inside the interpreter) and `wall` (the whole subprocess: interpreter start, imports,
-versions, exit), the best of --reps each.
+same in both trees) are not counted.  Three clocks: `import` (the import statements, timed
+inside the interpreter), `wall` (the whole subprocess: interpreter start, imports, versions,
+exit) and `cpu` (its user + system time, less sensitive than the wall clock to other
+processes on a shared machine), the best of --reps each.
 
 The baseline runs the same statements with PYTHONPATH pointing at the package of --baseline: a
 source root holding hmfdiff/, or a git revision whose src/ is extracted to a temporary folder
@@ -31,6 +32,7 @@ import argparse
 import ast
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -103,17 +105,22 @@ def probe(name):
     return PROBE.format(imports=imports)
 
 
+def _children_cpu():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def measure(code, src):
-    """(import seconds, wall seconds) of a fresh interpreter running `code`."""
+    """(import seconds, wall seconds, CPU seconds) of a fresh interpreter running `code`."""
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(src), str(ROOT)]))
     env.setdefault("MPLBACKEND", "Agg")
-    start = time.perf_counter()
+    cpu, start = _children_cpu(), time.perf_counter()
     out = subprocess.run(
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
     ).stdout
-    wall = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, _children_cpu() - cpu
     imported = float(next(x for x in out.splitlines() if x.startswith("IMPORT")).split()[1])
-    return imported, wall
+    return imported, wall, cpu
 
 
 def baseline_src(spec, tmp):
@@ -151,9 +158,11 @@ def run(args, baseline):
             present.append(measure(code, ROOT / "src"))
             if baseline is not None:
                 base.append(measure(code, baseline))
-        row["import"], row["wall"] = map(min, zip(*present, strict=True))
+        row["import"], row["wall"], row["cpu"] = map(min, zip(*present, strict=True))
         if base:
-            row["base_import"], row["base_wall"] = map(min, zip(*base, strict=True))
+            row["base_import"], row["base_wall"], row["base_cpu"] = map(
+                min, zip(*base, strict=True)
+            )
         rows.append(row)
     return rows
 
@@ -163,23 +172,28 @@ def report(rows, as_json):
     if as_json:
         print(json.dumps(rows, indent=1))
         return
-    head = f"{'script':22s} {'jobs':>4s} {'import':>7s} {'wall':>6s}"
+    head = f"{'script':22s} {'jobs':>4s} {'import':>7s} {'wall':>6s} {'cpu':>6s}"
     if baseline:
-        head += f" {'b.import':>8s} {'b.wall':>6s} {'ratio':>5s} {'saved job-s':>11s}"
+        head += f" | {'import':>7s} {'wall':>6s} {'cpu':>6s} | {'saved wall':>10s} {'cpu':>6s}"
+        print(f"{'':27s} {'present tree':^21s} | {'baseline':^21s} | {'job-s saved':^17s}")
     print(head)
-    total = 0.0
+    saved_wall = saved_cpu = 0.0
     for r in rows:
-        line = f"{r['script']:22s} {r['jobs']:4d} {r['import']:7.3f} {r['wall']:6.3f}"
+        line = (
+            f"{r['script']:22s} {r['jobs']:4d} {r['import']:7.3f} {r['wall']:6.3f} {r['cpu']:6.3f}"
+        )
         if baseline:
-            saved = (r["base_wall"] - r["wall"]) * r["jobs"]
-            total += saved
+            wall = (r["base_wall"] - r["wall"]) * r["jobs"]
+            cpu = (r["base_cpu"] - r["cpu"]) * r["jobs"]
+            saved_wall, saved_cpu = saved_wall + wall, saved_cpu + cpu
             line += (
-                f" {r['base_import']:8.3f} {r['base_wall']:6.3f}"
-                f" {r['base_wall'] / r['wall']:5.2f} {saved:11.1f}"
+                f" | {r['base_import']:7.3f} {r['base_wall']:6.3f} {r['base_cpu']:6.3f}"
+                f" | {wall:10.1f} {cpu:6.1f}"
             )
         print(line)
     if baseline:
-        print(f"saved over {sum(r['jobs'] for r in rows)} jobs: {total:.1f} job-s (wall clock)")
+        jobs = sum(r["jobs"] for r in rows)
+        print(f"saved over {jobs} jobs: {saved_wall:.1f} job-s wall, {saved_cpu:.1f} CPU-s")
 
 
 if __name__ == "__main__":
