@@ -17,7 +17,7 @@ States:
 from __future__ import annotations
 
 import numpy as np
-from scipy import optimize, special
+from scipy import special
 
 from . import orbits
 from .fourier import cos_coefficient
@@ -63,6 +63,8 @@ def thermal_beta(M0):
     _check_M0(M0)
     # bracket: I1/I0(x) ~ 1 - 1/(2x) at large x, so x = 1/(1 - M0) + 2 lies above the root
     hi = 1.0 / (1.0 - M0) + 2.0
+    from scipy import optimize  # here: 0.3 s of import that rule orbits never needs
+
     x = optimize.brentq(lambda x: _bessel_ratio(x) - M0, 1e-300, hi, xtol=1e-300, rtol=1e-15)
     return x / M0
 
@@ -88,6 +90,8 @@ def thermal_M0_from_energy(u):
         raise EquilibriumError(f"u = {u!r} is too close to u_c = 1/4: M0 would be below 1e-9")
     if thermal_energy(hi) >= u:
         raise EquilibriumError(f"u = {u!r} is too close to -1/2: M0 would exceed 1 - 1e-9")
+    from scipy import optimize
+
     return optimize.brentq(lambda m: thermal_energy(m) - u, lo, hi, xtol=1e-15, rtol=1e-15)
 
 
@@ -270,6 +274,8 @@ class CoreHaloState:
         return num / den
 
     def _solve_M0(self, guess):
+        from scipy import optimize
+
         g = lambda M: self._magnetisation_map(M) - M  # noqa: E731
         grid = np.linspace(0.01, 0.99, 50)
         vals = np.array([g(M) for M in grid])

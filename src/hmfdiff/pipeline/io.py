@@ -161,23 +161,33 @@ def git_revision(root=None):
         return "unknown"
 
 
-def _versions():
-    import matplotlib
-    import netCDF4
-    import numba
-    import scipy
+#: the libraries whose versions a file records (module and distribution names alike)
+VERSIONED = ("numpy", "scipy", "numba", "xarray", "netCDF4", "matplotlib")
 
+
+def _version(name):
+    """The version of library `name`: its `__version__` when a module of the job imported it,
+    else its installed distribution's (the same string, read without importing it: numba and
+    matplotlib take 0.3-0.4 s each to import, which a job that writes a file but uses neither
+    paid only for this line of provenance); the import is the last resort."""
+    module = sys.modules.get(name)
+    if module is None:
+        import importlib.metadata
+
+        try:
+            return importlib.metadata.version(name)
+        except importlib.metadata.PackageNotFoundError:
+            module = importlib.import_module(name)
+    return module.__version__
+
+
+def _versions():
     from .. import __version__
 
     return {
         "hmfdiff": __version__,
         "python": sys.version.split()[0],
-        "numpy": np.__version__,
-        "scipy": scipy.__version__,
-        "numba": numba.__version__,
-        "xarray": xr.__version__,
-        "netCDF4": netCDF4.__version__,
-        "matplotlib": matplotlib.__version__,
+        **{name: _version(name) for name in VERSIONED},
     }
 
 
