@@ -349,9 +349,12 @@ def solve_grid_M0(grid, f, M_cells, guess=None):
     """The M self-consistent with f on the cells of the frame M_cells, f(J-bar) held fixed:
     the root of `magnetisation_map`(M) - M nearest the guess."""
     guess = M_cells if guess is None else guess
+    known = {}  # brentq evaluates the bracket's ends again
 
     def g(M):
-        return magnetisation_map(grid, f, M_cells, M) - M
+        if M not in known:
+            known[M] = magnetisation_map(grid, f, M_cells, M) - M
+        return known[M]
 
     for half in (1e-4, 1e-3, 1e-2, 0.1, 0.5):
         lo, hi = max(guess - half, 1e-4), min(guess + half, 1.0 - 1e-9)

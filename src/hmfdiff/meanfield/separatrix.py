@@ -140,6 +140,14 @@ def djbar_deta(eta, M0):
     return _shaped(np.where(lib, c * (1.0 + eta) * K, c * K), eta0)
 
 
+def _jbar_offset_and_slope(eta, M0):
+    """`jbar_offset` and `djbar_deta` of the same orbits (their elliptic integrals once)."""
+    eta, m, p, lib, K, em1 = _parts(eta)
+    c = 4.0 * np.sqrt(M0) / np.pi
+    x = np.where(lib, -c * (p * K - em1), c * (eta * (1.0 + em1) + em1))
+    return x, np.where(lib, c * (1.0 + eta) * K, c * K)
+
+
 def eta_from_jbar_offset(x, M0, guess=None, iterations=64):
     """The orbit eta with J-bar - J-bar_s = x (x != 0, x > -J-bar_s).
 
@@ -170,18 +178,22 @@ def eta_from_jbar_offset(x, M0, guess=None, iterations=64):
         a = np.where(use, np.abs(g), a)
     t = np.log(a)
     done = np.zeros(x.shape, dtype=bool)
+    F = np.zeros(x.shape)
+    act = np.arange(x.size)  # the points still iterated
     for _ in range(12):
-        e = sgn * np.exp(t)
-        e = np.where(lib, np.maximum(e, -1.0 + 1e-16), e)
-        xe = jbar_offset(e, M0)
+        e = sgn[act] * np.exp(t[act])
+        e = np.where(lib[act], np.maximum(e, -1.0 + 1e-16), e)
+        xe, dx = _jbar_offset_and_slope(e, M0)
         with np.errstate(divide="ignore", invalid="ignore"):
-            F = np.log(np.abs(xe)) - np.log(target)
-            dF = np.abs(e) * djbar_deta(e, M0) / np.abs(xe)
-            step = np.where(dF > 1e-3, F / dF, 0.0)
+            F[act] = Fa = np.log(np.abs(xe)) - np.log(target[act])
+            dF = np.abs(e) * dx / np.abs(xe)
+            step = np.where(dF > 1e-3, Fa / dF, 0.0)
         step = np.clip(np.nan_to_num(step), -5.0, 5.0)
-        t = np.where(done, t, np.minimum(t - step, np.where(lib, 0.0, np.inf)))
-        done |= np.abs(F) < 4e-15  # the rounding floor of ln|x| (measured ~7e-15 at worst)
-        if done.all():
+        t[act] = np.minimum(t[act] - step, np.where(lib[act], 0.0, np.inf))
+        conv = np.abs(Fa) < 4e-15  # the rounding floor of ln|x| (measured ~7e-15 at worst)
+        done[act] = conv
+        act = act[~conv]
+        if act.size == 0:
             break
     eta = sgn * np.exp(t)
     bad = ~(done | (np.abs(F) < 1e-13))

@@ -1,0 +1,170 @@
+"""The relaxation's Newton solves and M0 solve as hmfdiff ran them until rxspeed (commit
+ae01749), kept as the baseline that `bench_relaxation.py --study cost` measures the present
+code against in the same run: each of a step's three backward-Euler solves (one step, two half
+steps) assembled its own Jacobian, the rate at every new Newton matrix was evaluated twice, and
+M0 was found by brentq on `grid.magnetisation_map` with eta(J-bar offset) by Newton steps over
+every cell edge until all had converged.
+
+`previous_path()` puts them in place of the present ones in `hmfdiff.kinetic.relaxation`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import warnings
+
+import numpy as np
+from scipy import linalg, optimize
+
+from hmfdiff.kinetic import relaxation as R
+from hmfdiff.kinetic.grid import JS_HAT, frame_offsets
+from hmfdiff.meanfield import separatrix
+from hmfdiff.meanfield.equilibrium import EquilibriumError
+
+
+def _newton_matrix(op, vol, level, d, dt, gauge, scales):
+    m = vol * np.exp(level + d)
+    jac = R._jacobian(op, d, level)
+    A = np.diag(m) - dt * jac
+    if gauge is not None:
+        A[:, gauge] = m - dt * R._call(op, "rate", d, level)  # d r / d level
+    A = A * scales[None, :]
+    rows = np.max(np.abs(A), axis=1)
+    rows = np.where(rows > 0, rows, 1.0)
+    A = A / rows[:, None]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", linalg.LinAlgWarning)
+        lu, piv = linalg.lu_factor(A, check_finite=False)
+    if np.any(np.diag(lu) == 0.0):
+        return None
+    return lu, piv, rows
+
+
+def backward_euler_offsets(op, vol, level0, d0, dt, gauge, scales, tol=1e-13, max_iter=50):
+    m0 = vol * np.exp(level0 + d0)
+    level, d = float(level0), d0.copy()
+    lu = None
+    last = np.inf
+    age = 0
+    for _ in range(max_iter):
+        f = np.exp(level + d)
+        if lu is None:
+            lu = _newton_matrix(op, vol, level, d, dt, gauge, scales)
+            if lu is None:
+                return level, d, False
+            last, age = np.inf, 0
+        else:
+            age += 1
+        r = vol * f - m0 - dt * R._call(op, "rate", d, level)
+        w = linalg.lu_solve(lu[:2], -r / lu[2], check_finite=False) * scales
+        if not np.all(np.isfinite(w)):
+            return level, d, False
+        dlevel = 0.0
+        if gauge is not None:
+            dlevel, w[gauge] = w[gauge], 0.0
+        change = np.abs(dlevel + w)
+        size = np.max(change)
+        step = min(1.0, 2.0 / max(size, 1e-300))
+        level += step * dlevel
+        d = d + step * w
+        floor = R.LOG_FLOOR - level
+        d = np.maximum(d, floor)
+        rel = (scales < 1e-8) & (np.abs(w) <= 1e-6 * scales)
+        bound = tol if age == 0 else 1e-2 * tol
+        if step == 1.0 and np.max(np.where(rel, 0.0, change * f)) <= bound * np.max(f):
+            return level, d, True
+        if step < 1.0 or size > 0.5 * last:
+            lu = None
+        last = size
+    return level, d, False
+
+
+def doubling_solves(op, vol, start, dt, scales, memo):
+    """One step dt and two half steps from `start`, each solve on its own."""
+
+    def solve(s, h):
+        level, d, ok = backward_euler_offsets(op, vol, s.level, s.d, h, s.gauge, scales)
+        return R._LogDensity(s.grid, level, d), ok
+
+    one, ok = solve(start, dt)
+    if not ok:
+        return one, start, False
+    half, ok = solve(start, 0.5 * dt)
+    if not ok:
+        return one, start, False
+    two, ok = solve(half, 0.5 * dt)
+    return one, two, ok
+
+
+def eta_from_jbar_offset(x, M0, guess=None, iterations=64):
+    x = np.asarray(x, dtype=float)
+    c = 4.0 * np.sqrt(M0) / np.pi
+    lib = x < 0.0
+    sgn = np.where(lib, -1.0, 1.0)
+    target = np.abs(x)
+    a = np.minimum(target / c, 0.5)
+    for _ in range(3):
+        a = np.minimum(target / (c * (np.log(4.0) - 0.5 * np.log(2.0 * a) + 0.5)), 0.5)
+    if guess is not None:
+        g = np.broadcast_to(np.asarray(guess, dtype=float), x.shape)
+        use = (np.sign(g) == sgn) & (np.abs(g) < 1.0) & (g != 0.0)
+        a = np.where(use, np.abs(g), a)
+    t = np.log(a)
+    done = np.zeros(x.shape, dtype=bool)
+    for _ in range(12):
+        e = sgn * np.exp(t)
+        e = np.where(lib, np.maximum(e, -1.0 + 1e-16), e)
+        xe = separatrix.jbar_offset(e, M0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            F = np.log(np.abs(xe)) - np.log(target)
+            dF = np.abs(e) * separatrix.djbar_deta(e, M0) / np.abs(xe)
+            step = np.where(dF > 1e-3, F / dF, 0.0)
+        step = np.clip(np.nan_to_num(step), -5.0, 5.0)
+        t = np.where(done, t, np.minimum(t - step, np.where(lib, 0.0, np.inf)))
+        done |= np.abs(F) < 4e-15
+        if done.all():
+            break
+    eta = sgn * np.exp(t)
+    bad = ~(done | (np.abs(F) < 1e-13))
+    if np.any(bad):
+        eta[bad] = separatrix._bisect_offset(x[bad], M0, iterations)
+    return eta
+
+
+def magnetisation_map(grid, f, M_cells, M):
+    f = np.asarray(f, dtype=float)
+    mass_hat = np.sqrt(M_cells) * np.sum(f * grid.width_hat)
+    if M == M_cells:
+        return float(np.dot(f, grid.cos_avg * grid.width_hat) / np.sum(f * grid.width_hat))
+    y = frame_offsets(grid, M_cells, M)
+    P = np.zeros_like(y)
+    ok = (y != 0.0) & (y > -JS_HAT)
+    if np.any(ok):
+        eta = eta_from_jbar_offset(y[ok], 1.0, guess=grid.eta_edges[ok])
+        P[ok] = separatrix.cos_primitive(eta, 1.0)
+    P[y <= -JS_HAT] = -16.0 / 3.0 / (4.0 * np.pi)
+    return float(np.sqrt(M) * np.dot(f, np.diff(P)) / mass_hat)
+
+
+def solve_grid_M0(grid, f, M_cells, guess=None):
+    guess = M_cells if guess is None else guess
+
+    def g(M):
+        return magnetisation_map(grid, f, M_cells, M) - M
+
+    for half in (1e-4, 1e-3, 1e-2, 0.1, 0.5):
+        lo, hi = max(guess - half, 1e-4), min(guess + half, 1.0 - 1e-9)
+        if g(lo) * g(hi) < 0:
+            return optimize.brentq(g, lo, hi, xtol=1e-15, rtol=1e-15)
+    raise EquilibriumError(f"no self-consistent M0 near {guess} for the grid state")
+
+
+@contextlib.contextmanager
+def previous_path():
+    """`relaxation.evolve` with the solves above in place of the present ones."""
+    saved = R._doubling_solves, R.solve_grid_M0
+    R._doubling_solves, R.solve_grid_M0 = doubling_solves, solve_grid_M0
+    try:
+        yield
+    finally:
+        R._doubling_solves, R.solve_grid_M0 = saved
