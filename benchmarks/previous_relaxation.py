@@ -3,7 +3,8 @@ ae01749), kept as the baseline that `bench_relaxation.py --study cost` measures 
 code against in the same run: each of a step's three backward-Euler solves (one step, two half
 steps) assembled its own Jacobian, the rate at every new Newton matrix was evaluated twice, and
 M0 was found by brentq on `grid.magnetisation_map` with eta(J-bar offset) by Newton steps over
-every cell edge until all had converged.
+every cell edge until all had converged; f was remapped with a Python loop over the cells
+that span old edges.
 
 `previous_path()` puts them in place of the present ones in `hmfdiff.kinetic.relaxation`.
 """
@@ -17,7 +18,7 @@ import numpy as np
 from scipy import linalg, optimize
 
 from hmfdiff.kinetic import relaxation as R
-from hmfdiff.kinetic.grid import JS_HAT, frame_offsets
+from hmfdiff.kinetic.grid import JS_HAT, _limited_slopes, frame_offsets
 from hmfdiff.meanfield import separatrix
 from hmfdiff.meanfield.equilibrium import EquilibriumError
 
@@ -159,12 +160,54 @@ def solve_grid_M0(grid, f, M_cells, guess=None):
     raise EquilibriumError(f"no self-consistent M0 near {guess} for the grid state")
 
 
+def remap(grid, f, M_from, M_to):
+    """`grid.remap`, its cells that span old edges filled one by one."""
+    f = np.asarray(f, dtype=float)
+    if M_from == M_to:
+        return f.copy()
+    rho = np.sqrt(M_from / M_to)
+    y = frame_offsets(grid, M_from, M_to)  # old edges in the new frame
+    x = grid.xhat_edges
+    n = f.size
+    centre_old = 0.5 * (grid.xhat_edges[1:] + grid.xhat_edges[:-1])
+    slope = _limited_slopes(f, centre_old) / rho  # per unit offset of the new frame
+    cy = 0.5 * (y[1:] + y[:-1])  # old centres in the new frame
+
+    def piece(i, a, b):
+        """int over [a, b] (inside old cell i) of its linear reconstruction."""
+        return (b - a) * (f[i] + slope[i] * (0.5 * (a + b) - cy[i]))
+
+    k = np.clip(np.searchsorted(y, x, side="right") - 1, 0, n - 1)
+    lo_k, hi_k = k[:-1], k[1:]
+    xm = 0.5 * (x[1:] + x[:-1])
+    out = f[lo_k] + slope[lo_k] * (xm - cy[lo_k])
+    span = np.flatnonzero(hi_k != lo_k)
+    if span.size:
+        mass = np.diff(y) * f
+        cum = np.concatenate(([0.0], np.cumsum(mass)))
+        for j in span:
+            a, b = lo_k[j], hi_k[j]
+            top = min(x[j + 1], y[-1])
+            m = piece(a, x[j], y[a + 1]) + (cum[b] - cum[a + 1])
+            if top > y[b]:
+                m += piece(b, y[b], top)
+            out[j] = max(m, 0.0) / grid.width_hat[j]
+    out[x[:-1] >= y[-1]] = 0.0  # beyond the old top edge: f = 0
+    out = np.maximum(out, 0.0)
+    old_mass = np.sqrt(M_from) * np.sum(f * grid.width_hat)
+    new_mass = np.sqrt(M_to) * np.sum(out * grid.width_hat)
+    return out * (old_mass / new_mass)
+
+
 @contextlib.contextmanager
 def previous_path():
     """`relaxation.evolve` with the solves above in place of the present ones."""
-    saved = R._doubling_solves, R.solve_grid_M0
-    R._doubling_solves, R.solve_grid_M0 = doubling_solves, solve_grid_M0
+    names = ("_doubling_solves", "solve_grid_M0", "remap")
+    saved = [getattr(R, k) for k in names]
+    for k, v in zip(names, (doubling_solves, solve_grid_M0, remap), strict=True):
+        setattr(R, k, v)
     try:
         yield
     finally:
-        R._doubling_solves, R.solve_grid_M0 = saved
+        for k, v in zip(names, saved, strict=True):
+            setattr(R, k, v)

@@ -183,7 +183,8 @@ def _newton_matrix(vol, level, d, dt, gauge, scales, rate, jac):
     the matrix filled at 600 nodes), where LAPACK factorises 4x faster than SuperLU."""
     m = vol * np.exp(level + d)
     n = m.size
-    A = np.multiply(jac, -dt, order="F")  # diag(m) - dt jac, in LAPACK's order (no copy there)
+    A = np.multiply(jac, -dt, order="F")  # diag(m) - dt jac in LAPACK's order (no copy there;
+    # `CollisionOperator.jacobian_dense` gives jac in it)
     diag = np.arange(n)
     A[diag, diag] += m
     if gauge is not None:
