@@ -4,6 +4,7 @@
     python benchmarks/bench_relaxation.py --study nmax       # ch2*: dependence on n_max
     python benchmarks/bench_relaxation.py --study convergence --case hot
     python benchmarks/bench_relaxation.py --study newton     # the Newton matrix, old and new
+    python benchmarks/bench_relaxation.py --study cost --case hot warm ch2  # the pipeline's runs
 
 Runs on one core (BLAS threads pinned to 1 before numpy is imported).  The default prints the
 wall time of one evolution from ch2* to thermalisation (max |f - f_eq| < thermal_tol max f_eq)
@@ -15,7 +16,12 @@ production and the relaxation time against n_max; `--study convergence` the larg
 M0(tau) and of tau_R when rtol is halved and when the grid is refined by 1.5 (the grid's
 convergence in the layer next to the separatrix: studies/separatrix_layer.py); `--study newton`
 the time of one Newton matrix assembled by sparse products and by the precomputed event map
-(`collision.jacobian_assembly`), the baseline measured in the same run.
+(`collision.jacobian_assembly`), the baseline measured in the same run; `--study cost` the
+CPU time of the pipeline's evolutions (rule relaxation: config/config.yaml's settings and
+flux_times, the warm core to tau = 1) by the present code and by the solves it replaced
+(benchmarks/previous_relaxation.py), in the same run, with the largest differences of their
+results: tau_R, dM0/dtau (initial, early), M0 at the end, the current at the stored times and
+f at the end.
 """
 
 from __future__ import annotations
@@ -29,6 +35,7 @@ import argparse  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
+from previous_relaxation import previous_path  # noqa: E402
 
 from hmfdiff.kinetic.grid import project_state  # noqa: E402
 from hmfdiff.kinetic.relaxation import (  # noqa: E402
@@ -51,7 +58,14 @@ CASES = {
         dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=40.0, beta2=2.0),
         3.5,
     ),
+    "warm": (
+        dict(kind="core_halo", eta1=0.3, eta2=0.01, mu1=-0.5, mu2=1.2, beta1=5.0, beta2=2.0),
+        3.5,
+    ),
 }
+#: the pipeline's runs (config/config.yaml, relaxation: runs)
+PIPELINE = {"ch2": {}, "hot": {}, "warm": {"tau_max": 1.0}}
+FLUX_TIMES = (0.0, 1.0, 10.0, 100.0)
 EQUATIONS = ("landau", "lenard_balescu")
 
 
@@ -129,12 +143,76 @@ def newton_cost(case, equation, repeat=5):
     )
 
 
+def _relative(a, b):
+    """max |a - b| / max |b| (0 if both vanish; NaN where both are NaN counts as equal)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    both = np.isnan(a) & np.isnan(b)
+    a, b = np.where(both, 0.0, a), np.where(both, 0.0, b)
+    scale = np.max(np.abs(b))
+    return float(np.max(np.abs(a - b)) / scale) if scale > 0 else float(np.max(np.abs(a - b)))
+
+
+def agreement(new, old):
+    """Largest relative differences of the results the pipeline uses, and whether all of
+    them are bitwise equal."""
+    quantities = {
+        "tau_R": (relaxation_times(new)[0], relaxation_times(old)[0]),
+        "dM0dtau_initial": (new["dM0dtau_initial"], old["dM0dtau_initial"]),
+        "dM0dtau_early": (new["dM0dtau_early"], old["dM0dtau_early"]),
+        "M0_end": (new["M0"][-1], old["M0"][-1]),
+        "tau_end": (new["tau"][-1], old["tau"][-1]),
+    }
+    out = {k: _relative(a, b) for k, (a, b) in quantities.items()}
+    same_shape = new["flux"].shape == old["flux"].shape
+    out["flux"] = max(_relative(a, b) for a, b in zip(new["flux"], old["flux"], strict=True))
+    out["flux"] = out["flux"] if same_shape else np.inf
+    out["f_end"] = _relative(new["f"][-1], old["f"][-1])
+    out["f_end_nodewise"] = float(np.max(np.abs(new["f"][-1] / old["f"][-1] - 1.0)))
+    bitwise = same_shape and all(np.array_equal(a, b, True) for a, b in quantities.values())
+    bitwise = bitwise and np.array_equal(new["flux"], old["flux"])
+    out["bitwise"] = bool(bitwise and np.array_equal(new["f"][-1], old["f"][-1]))
+    return out
+
+
+def cost(case, equation):
+    """One pipeline evolution by the present code and by the previous solves (same run), in
+    CPU seconds of this process (BLAS on one thread: what a job pays on a shared machine)."""
+    kw = dict(PIPELINE[case], flux_times=FLUX_TIMES)
+    t0 = time.process_time()
+    new, _ = run(case, equation, **kw)
+    t_new = time.process_time() - t0
+    with previous_path():
+        t0 = time.process_time()
+        old, _ = run(case, equation, **kw)
+        t_old = time.process_time() - t0
+    agree = agreement(new, old)
+    worst = max(v for k, v in agree.items() if k not in ("bitwise", "f_end_nodewise"))
+    print(
+        f"{case} {equation}: CPU previous {t_old:.1f} s, present {t_new:.1f} s "
+        f"(x{t_old / t_new:.2f}); {new['n_steps']} steps ({old['n_steps']} before); results "
+        + ("bitwise equal" if agree["bitwise"] else f"agree to {worst:.1e} relative")
+    )
+    print("    " + ", ".join(f"{k} {v:.1e}" for k, v in agree.items() if k != "bitwise"))
+    return t_old, t_new
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--study", choices=["time", "nmax", "convergence", "newton"], default="time")
-    ap.add_argument("--case", choices=sorted(CASES), default="ch2")
+    ap.add_argument(
+        "--study", choices=["time", "nmax", "convergence", "newton", "cost"], default="time"
+    )
+    ap.add_argument("--case", nargs="+", choices=sorted(CASES), default=["ch2"])
     ap.add_argument("--equations", nargs="+", choices=EQUATIONS, default=list(EQUATIONS))
     args = ap.parse_args()
+    if args.study == "cost":
+        total = np.zeros(2)
+        for case in args.case:
+            for eq in args.equations:
+                total += cost(case, eq)
+        old, new = total
+        print(f"all: CPU previous {old:.1f} s, present {new:.1f} s (x{old / new:.2f})")
+        return
+    args.case = args.case[0]
     if args.study == "time":
         for eq in args.equations:
             print(f"{args.case} {eq}: one operator + current {flux_cost(args.case, eq):.3f} s")

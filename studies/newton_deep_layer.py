@@ -28,9 +28,9 @@ LOG = []
 _solve = R._backward_euler_offsets
 
 
-def _logged(op, vol, level0, d0, dt, gauge, scales, tol=1e-13, max_iter=50):
+def _logged(op, vol, level0, d0, dt, gauge, scales, tol=1e-13, max_iter=50, **kw):
     t = time.perf_counter()
-    out = _solve(op, vol, level0, d0, dt, gauge, scales, tol, max_iter)
+    out = _solve(op, vol, level0, d0, dt, gauge, scales, tol, max_iter, **kw)
     LOG.append((dt, out[2], time.perf_counter() - t))
     return out
 

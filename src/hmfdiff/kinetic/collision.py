@@ -319,9 +319,10 @@ def resonance_events(geom, n_max, m=4, m_sep=24, derivative="face"):
 
 def jacobian_assembly(Xhat, P, Ahat=None):
     """Sparse maps from per-event weights to the entries of the dense Jacobian: with v, u per
-    event, (X^T diag(v) X)_ij = (A1 v)_{iN+j} and (X^T diag(u) P)_ij = (A2 u)_{iN+j}, A1 and A2
+    event, (X^T diag(v) X)_ij = (A1 v)_{jN+i} and (X^T diag(u) P)_ij = (A2 u)_{jN+i}, A1 and A2
     (N*N, E) holding the outer products of each event's few nonzeros; so that a Newton matrix
-    costs two sparse matrix-vector products.  Computed once per grid (reduced X^)."""
+    costs two sparse matrix-vector products, its columns contiguous (LAPACK's order).  Computed
+    once per grid (reduced X^)."""
     n = Xhat.shape[1]
     Xc = (Xhat if Ahat is None else Ahat).tocoo()  # the left factor: A^ where it differs
     maps = []
@@ -331,7 +332,7 @@ def jacobian_assembly(Xhat, P, Ahat=None):
         rep = np.repeat(np.arange(Xc.nnz), counts)
         offs = np.arange(rep.size) - np.repeat(np.cumsum(counts) - counts, counts)
         k = start[Xc.row[rep]] + offs
-        rows = Xc.col[rep] * n + idx[k]
+        rows = idx[k] * n + Xc.col[rep]
         vals = Xc.data[rep] * dat[k]
         maps.append(sparse.csr_matrix((vals, (rows, Xc.row[rep])), shape=(n * n, Xhat.shape[0])))
     return tuple(maps)
@@ -373,15 +374,15 @@ class CollisionOperator:
         return -(self.XT @ (self.W * F * Xy))
 
     def jacobian_dense(self, y, level=0.0):
-        """d(rate)/dy as a dense (N, N) array, from `jacobian_assembly` (J = -(X^T diag(W F) X
-        + X^T diag(W F X y) P) with X = X^/M)."""
+        """d(rate)/dy as a dense (N, N) array in Fortran order, from `jacobian_assembly`
+        (J = -(X^T diag(W F) X + X^T diag(W F X y) P) with X = X^/M)."""
         if self.assembly is None:
             self.assembly = jacobian_assembly(self.Xhat, self.P, self.Ahat)
         F, Xy = self._parts(y, level)
         WF = self.W * F
         n = self.X.shape[1]
         J = self.assembly[0] @ (WF / self.M**2) + self.assembly[1] @ (WF * Xy / self.M)
-        return -J.reshape(n, n)
+        return -J.reshape(n, n).T
 
     def jacobian(self, y, level=0.0):
         """d(rate)/dy as a sparse (N, N) matrix."""

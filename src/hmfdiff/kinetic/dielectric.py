@@ -39,6 +39,8 @@ from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 __all__ = ["DielectricTensor", "dielectric_tensor", "pole_density"]
 
 _LIB, _ROT = 0, 1
+#: frequencies per block of the quadrature's matrix (`DielectricTensor._branch_term`)
+_BLOCK = 128
 
 
 def _check_state(state):
@@ -167,19 +169,26 @@ class DielectricTensor:
     def _branch_term(self, x0, sgn, Om, w, Gcc, Gss, A, branch, l):
         """int_0^A G/(Omega - x0 - i0 sgn) dOmega for every x0, both components."""
         pole = (x0 > 0.0) & (x0 < A)
-        R = np.subtract(Om[None, :], x0[:, None])
-        with np.errstate(divide="ignore"):
-            np.divide(1.0, R, out=R)  # in place: one array of n_omega x n_nodes, not three
         # a frequency exactly on a node (measure zero) drops that node's term, an error of
         # order w_j G'(x0); the nodes increase, so such hits are found by bisection
         j = np.minimum(np.searchsorted(Om, x0), Om.size - 1)
-        hit = np.flatnonzero(Om[j] == x0)
-        R[hit, j[hit]] = 0.0
+        hit = Om[j] == x0
+        # the three quadratures in one pass over R = 1/(Omega - x0): sum w R, sum w G_cc R,
+        # sum w G_ss R, by blocks of frequencies that stay in cache
+        V = np.column_stack([w, w * Gcc, w * Gss])
+        sums = np.empty((x0.size, 3))
+        for a in range(0, x0.size, _BLOCK):
+            b = min(a + _BLOCK, x0.size)
+            R = np.subtract(Om[None, :], x0[a:b, None])
+            with np.errstate(divide="ignore"):
+                np.divide(1.0, R, out=R)
+            k = np.flatnonzero(hit[a:b])
+            R[k, j[a:b][k]] = 0.0
+            np.matmul(R, V, out=sums[a:b])
+        sumw, tcc, tss = sums.T
         kp = np.full(x0.shape, np.nan)
         if np.any(pole):
             kp[pole] = self._kappa_of(x0[pole], branch)
-        # the three quadratures in one pass over R: sum w R, sum w G_cc R, sum w G_ss R
-        sumw, tcc, tss = (R @ np.column_stack([w, w * Gcc, w * Gss])).T
         with np.errstate(divide="ignore", invalid="ignore"):
             logt = np.where(pole, np.log(np.abs(A - x0) / np.abs(x0)), 0.0)
         out = []

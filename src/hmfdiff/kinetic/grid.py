@@ -349,9 +349,12 @@ def solve_grid_M0(grid, f, M_cells, guess=None):
     """The M self-consistent with f on the cells of the frame M_cells, f(J-bar) held fixed:
     the root of `magnetisation_map`(M) - M nearest the guess."""
     guess = M_cells if guess is None else guess
+    known = {}  # brentq evaluates the bracket's ends again
 
     def g(M):
-        return magnetisation_map(grid, f, M_cells, M) - M
+        if M not in known:
+            known[M] = magnetisation_map(grid, f, M_cells, M) - M
+        return known[M]
 
     for half in (1e-4, 1e-3, 1e-2, 0.1, 0.5):
         lo, hi = max(guess - half, 1e-4), min(guess + half, 1.0 - 1e-9)
@@ -395,24 +398,22 @@ def remap(grid, f, M_from, M_to):
     cy = 0.5 * (y[1:] + y[:-1])  # old centres in the new frame
 
     def piece(i, a, b):
-        """int over [a, b] (inside old cell i) of its linear reconstruction."""
+        """int over [a, b] (inside old cells i) of their linear reconstruction."""
         return (b - a) * (f[i] + slope[i] * (0.5 * (a + b) - cy[i]))
 
     k = np.clip(np.searchsorted(y, x, side="right") - 1, 0, n - 1)
     lo_k, hi_k = k[:-1], k[1:]
     xm = 0.5 * (x[1:] + x[:-1])
     out = f[lo_k] + slope[lo_k] * (xm - cy[lo_k])
-    span = np.flatnonzero(hi_k != lo_k)
-    if span.size:
+    j = np.flatnonzero(hi_k != lo_k)  # new cells that span old edges
+    if j.size:
         mass = np.diff(y) * f
         cum = np.concatenate(([0.0], np.cumsum(mass)))
-        for j in span:
-            a, b = lo_k[j], hi_k[j]
-            top = min(x[j + 1], y[-1])
-            m = piece(a, x[j], y[a + 1]) + (cum[b] - cum[a + 1])
-            if top > y[b]:
-                m += piece(b, y[b], top)
-            out[j] = max(m, 0.0) / grid.width_hat[j]
+        a, b = lo_k[j], hi_k[j]
+        top = np.minimum(x[j + 1], y[-1])
+        m = piece(a, x[j], y[a + 1]) + (cum[b] - cum[a + 1])
+        m = np.where(top > y[b], m + piece(b, y[b], top), m)
+        out[j] = np.maximum(m, 0.0) / grid.width_hat[j]
     out[x[:-1] >= y[-1]] = 0.0  # beyond the old top edge: f = 0
     out = np.maximum(out, 0.0)
     old_mass = np.sqrt(M_from) * np.sum(f * grid.width_hat)

@@ -174,52 +174,66 @@ def _jacobian(op, d, level):
     return _call(op, "jacobian", d, level).toarray()
 
 
-def _newton_matrix(op, vol, level, d, dt, gauge, scales):
+def _newton_matrix(vol, level, d, dt, gauge, scales, rate, jac):
     """LU of the Newton matrix of the backward-Euler step in the unknowns (Delta d_j / s_j,
     Delta level in the gauge node's column), columns multiplied by the offsets' natural scales
     s_j and rows divided by their largest entry (returned with the LU); None if exactly
-    singular.  Dense LU: the
-    collision operator couples every node to its resonant partners (~12 % of the matrix
-    filled at 600 nodes), where LAPACK factorises 4x faster than SuperLU."""
+    singular.  rate, jac: the rate and its dense Jacobian at ln f = level + d (`_jacobian`).
+    Dense LU: the collision operator couples every node to its resonant partners (~12 % of
+    the matrix filled at 600 nodes), where LAPACK factorises 4x faster than SuperLU."""
     m = vol * np.exp(level + d)
-    jac = _jacobian(op, d, level)
-    A = np.diag(m) - dt * jac
+    n = m.size
+    A = np.multiply(jac, -dt, order="F")  # diag(m) - dt jac in LAPACK's order (no copy there;
+    # `CollisionOperator.jacobian_dense` gives jac in it)
+    diag = np.arange(n)
+    A[diag, diag] += m
     if gauge is not None:
-        A[:, gauge] = m - dt * _call(op, "rate", d, level)  # d r / d level
-    A = A * scales[None, :]
-    rows = np.max(np.abs(A), axis=1)  # row equilibration (the nodes next to the separatrix
-    rows = np.where(rows > 0, rows, 1.0)  # have tiny masses and enormous couplings)
-    A = A / rows[:, None]
+        A[:, gauge] = m - dt * rate  # d r / d level
+    A *= scales[None, :]
+    rows = np.maximum(A.max(axis=1), -A.min(axis=1))  # row equilibration (the nodes next to
+    rows = np.where(rows > 0, rows, 1.0)  # the separatrix have tiny masses, enormous couplings)
+    A /= rows[:, None]
     with warnings.catch_warnings():  # an exactly singular matrix is reported by the caller
         warnings.simplefilter("ignore", linalg.LinAlgWarning)
-        lu, piv = linalg.lu_factor(A, check_finite=False)
+        lu, piv = linalg.lu_factor(A, overwrite_a=True, check_finite=False)
     if np.any(np.diag(lu) == 0.0):
         return None
     return lu, piv, rows
 
 
-def _backward_euler_offsets(op, vol, level0, d0, dt, gauge, scales, tol=1e-13, max_iter=50):
+def _backward_euler_offsets(
+    op, vol, level0, d0, dt, gauge, scales, tol=1e-13, max_iter=50, at_start=None
+):
     """Solve vol f - vol f0 = dt rate(f) for ln f = level + d by damped Newton iterations
     that reuse their factorised matrix while it contracts the correction by at least half an
     iteration (and refactorise otherwise).  With a gauge node, d stays 0 there and the level
     is an unknown, so that the offsets d next to the separatrix, where ln f of neighbouring
     cells differ below its own rounding, keep their digits; scales: the offsets' natural size
-    per node (the unknowns are Delta d / scales).  Returns (level, d, converged)."""
+    per node (the unknowns are Delta d / scales); at_start: None or (rate, Jacobian) at the
+    start (`_rate_jacobian`), when another solve from there has them.  Returns (level, d,
+    converged)."""
     m0 = vol * np.exp(level0 + d0)
     level, d = float(level0), d0.copy()
     lu = None
     last = np.inf
     age = 0  # iterations since the matrix was factorised
-    for _ in range(max_iter):
+    for it in range(max_iter):
         f = np.exp(level + d)
+        jac = None
+        if it == 0 and at_start is not None:
+            rate, jac = at_start
+        else:
+            rate = _call(op, "rate", d, level)
         if lu is None:
-            lu = _newton_matrix(op, vol, level, d, dt, gauge, scales)
+            if jac is None:
+                jac = _jacobian(op, d, level)
+            lu = _newton_matrix(vol, level, d, dt, gauge, scales, rate, jac)
             if lu is None:  # exactly singular
                 return level, d, False
             last, age = np.inf, 0
         else:
             age += 1
-        r = vol * f - m0 - dt * _call(op, "rate", d, level)
+        r = vol * f - m0 - dt * rate
         w = linalg.lu_solve(lu[:2], -r / lu[2], check_finite=False) * scales
         if not np.all(np.isfinite(w)):
             return level, d, False
@@ -246,6 +260,35 @@ def _backward_euler_offsets(op, vol, level0, d0, dt, gauge, scales, tol=1e-13, m
             lu = None
         last = size
     return level, d, False
+
+
+def _rate_jacobian(op, d, level):
+    """The rate and its dense Jacobian at ln f = level + d."""
+    return _call(op, "rate", d, level), _jacobian(op, d, level)
+
+
+def _doubling_solves(op, vol, start, dt, scales, memo):
+    """The step doubling's backward-Euler solves from `start` (a `_LogDensity`): one step dt
+    and two half steps; returns (one, two, converged).  The step and the first half step begin
+    at the same state with the same frozen operator: the rate and Jacobian there are evaluated
+    once (kept in memo, a dict that lives as long as start and op, for a retried step)."""
+    if "start" not in memo:
+        memo["start"] = _rate_jacobian(op, start.d, start.level)
+
+    def solve(s, h, at_start=None):
+        level, d, ok = _backward_euler_offsets(
+            op, vol, s.level, s.d, h, s.gauge, scales, at_start=at_start
+        )
+        return _LogDensity(s.grid, level, d), ok
+
+    one, ok = solve(start, dt, memo["start"])
+    if not ok:
+        return one, start, False
+    half, ok = solve(start, 0.5 * dt, memo["start"])
+    if not ok:
+        return one, start, False
+    two, ok = solve(half, 0.5 * dt)
+    return one, two, ok
 
 
 def _backward_euler(op, vol, y0, dt, tol=1e-13, max_iter=50):
@@ -544,17 +587,12 @@ def evolve(state, settings, progress=None, operator=None):
         M_flux.append(M0)
         return op
 
-    def step_to(op, vol, start, dt, scales):
-        level, d, ok = _backward_euler_offsets(
-            op, vol, start.level, start.d, dt, start.gauge, scales
-        )
-        return _LogDensity(grid, level, d), ok
-
     tau = 0.0
     dist = record(tau, lnf, M0)
     op = record_flux(tau, lnf, M0)
     dM0dtau_initial = initial_rate(grid, op, lnf.d, M0, lnf.level)
     mid, M_mid = lnf, M0
+    memo = {}
     vol = grid.volume(M0)
     scales = lnf.scales(M0)
     rate0 = np.max(np.abs(_call(op, "rate", lnf.d, lnf.level)) / vol)
@@ -587,11 +625,10 @@ def evolve(state, settings, progress=None, operator=None):
             op = make_operator(mid.f, M_mid)
             vol = grid.volume(M_mid)
             scales = mid.scales(M_mid)
+            memo = {}  # what the solves from mid with op share
             fresh = False
-        one, ok1 = step_to(op, vol, mid, dt, scales)
-        half, okh = step_to(op, vol, mid, 0.5 * dt, scales) if ok1 else (mid, False)
-        two, ok2 = step_to(op, vol, half, 0.5 * dt, scales) if okh else (mid, False)
-        if not (ok1 and okh and ok2):
+        one, two, ok = _doubling_solves(op, vol, mid, dt, scales, memo)
+        if not ok:
             n_rejected += 1
             dt *= 0.25
             continue

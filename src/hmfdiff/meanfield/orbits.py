@@ -194,14 +194,24 @@ def nome(k_m, k_m1=None):
 
 
 def _bisect(fun, target, lo, hi, iters=80):
-    lo = np.broadcast_to(_as_array(lo), np.shape(target)).copy()
-    hi = np.broadcast_to(_as_array(hi), np.shape(target)).copy()
+    """iters bisections of fun(x) = target (fun elementwise, increasing) in [lo, hi].  A point
+    whose midpoint rounds onto an end of its interval is final (the next steps would repeat or
+    close the interval) and is not iterated further."""
+    shape = np.shape(target)
+    lo = np.broadcast_to(_as_array(lo), shape).flatten()
+    hi = np.broadcast_to(_as_array(hi), shape).flatten()
+    target = np.broadcast_to(_as_array(target), shape).ravel()
+    act = np.arange(lo.size)
     for _ in range(iters):
-        mid = 0.5 * (lo + hi)
-        below = fun(mid) < target
-        lo = np.where(below, mid, lo)
-        hi = np.where(below, hi, mid)
-    return 0.5 * (lo + hi)
+        a, b = lo[act], hi[act]
+        mid = 0.5 * (a + b)
+        below = fun(mid) < target[act]
+        lo[act] = np.where(below, mid, a)
+        hi[act] = np.where(below, b, mid)
+        act = act[(mid != a) & (mid != b)]
+        if act.size == 0:
+            break
+    return (0.5 * (lo + hi)).reshape(shape)
 
 
 def kappa_from_action(J, M0, family):
