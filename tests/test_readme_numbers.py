@@ -2108,6 +2108,81 @@ CLAIMS = [
         "A fit job starts in 1.150 CPU-seconds instead of 1.833, an orbits job in 1.004 instead "
         "of 1.665; over the 182 jobs of the full reproduction that saves 72.4 CPU-seconds",
     ),
+    C(
+        V,
+        "validation_summary_ddf04b7.txt",
+        [
+            "pooled, beside the separatrix band: 16 0.032 (0.026) 1.012 +- 0.011 0.88 (0.94) "
+            "1.54 (1.09)",
+            "beside the separatrix band 0 (0.10)",
+        ],
+        "beside the separatrix band, mean z^2 1.54",
+    ),
+    C(
+        V,
+        PRESENT,
+        [
+            "pooled, beside the separatrix band: 16 0.040 (0.024) 1.000 +- 0.017 0.69 (0.94) "
+            "4.53 (1.09)",
+            "thermal_u0.2475 full kappa0 = 0.942 (ratio 0.842, z = -4.5)",
+            "thermal_u0.2475 full kappa0 = 1.039 (ratio 0.852, z = -5.3)",
+        ],
+        "(the run above: 4.53)",
+    ),
+    C(
+        V,
+        "validation_ddf04b7.csv",
+        ["0.906709,-1.76272", "0.938962,-1.2611"],
+        "are 0.906709 (z = -1.76272) and 0.938962 (z = -1.2611) of the theory",
+    ),
+    C(
+        V,
+        PRESENT,
+        [
+            "thermal_u0.2475 full kappa0 = 0.942 (ratio 0.842, z = -4.5)",
+            "thermal_u0.2475 full kappa0 = 1.039 (ratio 0.852, z = -5.3)",
+        ],
+        "against 0.842 and 0.852 above",
+    ),
+    C(
+        V,
+        "validation_summary_ddf04b7.txt",
+        "pooled, all lines: 224 0.036 (0.035) 1.003 +- 0.004 0.92 (0.94) 1.32 (1.09)",
+        "Over all lines its median |ratio - 1| is 0.036 (0.035 expected), 92 % of the bins lie "
+        "within |z| < 2 and the mean z^2 is 1.32",
+    ),
+    C(
+        P,
+        "from_empty_2026-11-28b.txt",
+        [
+            "full dynamics 1.69e+09 particle-steps/s on 2 threads",
+            "md 30 2108 70.3",
+            "relaxation_rates_md 14 450 32.1",
+            "relaxation 6 371 61.8",
+            "md_scaling 18 190 10.6",
+            "total 183 3724",
+            "Elapsed (wall clock) time (h:mm:ss or m:ss): 31:09.95",
+            "Maximum resident set size (kbytes): 501172",
+        ],
+        "`bench_md.py` gave 1.69e+09 particle-steps/s on 2 threads just before): **31 min 10 s** "
+        "wall, 183 jobs, 3724 job-seconds, peak memory 501172 kB; md 2108, relaxation_rates_md "
+        "450, relaxation 371, md_scaling 190",
+        derived={"31": "31", "10": "9.95"},
+    ),
+    C(
+        P,
+        "from_empty_2026-11-28b.txt",
+        ["md 30 2108 70.3", "total 183 3724"],
+        "the MD, unchanged, is 57 % of the total",
+        derived={"57": "100 * 2108 / 3724"},
+    ),
+    C(
+        P,
+        "from_empty_2026-11-28.txt",
+        "relaxation 6 469 78.2",
+        "The relaxation rule fell from 469 to",
+    ),
+    C(P, "from_empty_2026-11-28b.txt", "relaxation 6 371 61.8", "to 371 job-seconds"),
 ]
 
 
