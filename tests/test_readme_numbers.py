@@ -2183,6 +2183,12 @@ CLAIMS = [
         "The relaxation rule fell from 469 to",
     ),
     C(P, "from_empty_2026-11-28b.txt", "relaxation 6 371 61.8", "to 371 job-seconds"),
+    C(
+        F,
+        "validation_ddf04b7.csv",
+        ["0.906709,-1.76272", "0.938962,-1.2611"],
+        "gives 0.906709 (z = -1.76272) and 0.938962 (z = -1.2611)",
+    ),
 ]
 
 
