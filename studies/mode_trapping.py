@@ -17,6 +17,7 @@ Three steps:
     python studies/mode_trapping.py theory                      # omega_b / gamma against N
     python studies/mode_trapping.py run OUT CASE N FIRST LAST   # MD(full) realisations
     python studies/mode_trapping.py analyse OUT [CASE ...]      # the mode in the MD
+    python studies/mode_trapping.py lineshape OUT [CASE ...]    # shifted or reshaped?
 
 `theory` prints, for the hot halo and the same state with a warmer core (beta1 = 20, 10; the
 cases of config/experiments/hothalo_marginal.yaml), the least-damped eps_cc mode, the resonance
@@ -31,6 +32,17 @@ that band against the theory's, the shift of the peak, in the whole run and in i
 one set from the start), and in units of gamma beside omega_b / gamma.  Trapping predicts a
 shift that depends on omega_b / gamma alone, whatever the state; an effect of N alone (the
 separatrix layer, the order-1/N^2 collision terms) the same shift at the same N.
+
+`lineshape` asks whether the MD's peak is the linear one moved in frequency or the linear one
+reshaped, which a centroid over a fixed band cannot tell apart when the mode is broad (beta1 =
+10: gamma = 0.076, half the band).  Over the band omega0 -+ max(4 gamma, 0.15) it fits the
+mean N S_x by weighted least squares (weights: the standard error over realisations per
+frequency) with two models of two parameters each, the window-smoothed linear spectrum
+  shift:  A S_lin(omega - delta)
+  tilt:   A S_lin(omega) (1 + b (omega - omega0) / gamma)
+and prints delta (jackknife error), b, and each model's chi^2 beside that of A S_lin alone
+(one parameter).  Adjacent Welch frequencies are correlated by the window, so the chi^2 are
+compared between models, not against their degrees of freedom.
 """
 
 from __future__ import annotations
@@ -216,8 +228,91 @@ def analyse(out, cases):
             )
 
 
+def _fit_shift(mean, err, th_at, om, grid):
+    """(chi^2, A, delta) of A S_lin(omega - delta) by a scan of delta over `grid` (A linear)."""
+    w = 1.0 / err**2
+    best = (np.inf, np.nan, np.nan)
+    for d in grid:
+        t = th_at(om - d)
+        a = float((w * mean * t).sum() / (w * t * t).sum())
+        chi2 = float((w * (mean - a * t) ** 2).sum())
+        if chi2 < best[0]:
+            best = (chi2, a, float(d))
+    return best
+
+
+def _fit_tilt(mean, err, th, x):
+    """(chi^2, A, b) of A S_lin(omega) (1 + b x), linear least squares."""
+    w = 1.0 / err
+    design = np.stack([th * w, th * x * w], axis=1)
+    coef, *_ = np.linalg.lstsq(design, mean * w, rcond=None)
+    chi2 = float(((design @ coef - mean * w) ** 2).sum())
+    return chi2, float(coef[0]), float(coef[1] / coef[0])
+
+
+def lineshape(out, cases):
+    from hmfdiff.analysis.md_spectrum import smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+    from hmfdiff.kinetic.dielectric import DielectricTensor
+    from hmfdiff.kinetic.spectrum import bath_spectrum
+    from hmfdiff.pipeline.io import read_dataset
+
+    print("# The mode's line shape in MD(full) (studies/mode_trapping.py lineshape): over")
+    print("# omega0 -+ max(4 gamma, 0.15), the mean N S_x fitted by A S_lin(omega - delta) (shift)")
+    print("# and by A S_lin(omega) (1 + b (omega - omega0)/gamma) (tilt); chi^2 of each and of")
+    print("# A S_lin alone (amplitude); delta +- jackknife over realisations")
+    for case in cases:
+        state, omega0, gamma, _, _ = mode_parameters(case)
+        tensor = DielectricTensor(state)
+
+        def dressed(w, state=state, tensor=tensor):
+            return bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
+
+        half = max(4.0 * gamma, 0.15)
+        print(f"{case}: omega0 = {omega0:.5f}, gamma = {gamma:.5f}, band +-{half:.3f}")
+        for folder in sorted((Path(out) / case).glob("N*"), key=lambda p: int(p.name[1:])):
+            files = sorted(folder.glob("seed*.nc"))
+            if len(files) < 4:
+                continue
+            data = [read_dataset(p) for p in files]
+            N = float(data[0].attrs["N"])
+            n_t = min(ds.sizes["time_fine"] for ds in data)
+            seg = int(round(float(data[0].attrs["max_lag"]) / float(data[0].attrs["m_every"])))
+            om, S, dt = _spectra(data, N, slice(0, n_t), seg)
+            band = np.abs(om - omega0) < half
+            o = om[band]
+            fine = np.linspace(o[0] - 0.06, o[-1] + 0.06, 4 * o.size + 97)
+            th_fine = smoothed(dressed, fine, seg, dt)
+
+            def th_at(w, fine=fine, th_fine=th_fine):
+                return np.interp(w, fine, th_fine)
+
+            grid = np.arange(-0.05, 0.05 + 1e-12, 2.5e-4)
+            x = (o - omega0) / gamma
+
+            def fits(v, o=o, x=x, th_at=th_at, grid=grid):
+                mean = v.mean(0)
+                err = v.std(0, ddof=1) / np.sqrt(v.shape[0])
+                sh = _fit_shift(mean, err, th_at, o, grid)
+                ti = _fit_tilt(mean, err, th_at(o), x)
+                w = 1.0 / err**2
+                t = th_at(o)
+                a = float((w * mean * t).sum() / (w * t * t).sum())
+                amp = float((w * (mean - a * t) ** 2).sum())
+                return sh, ti, amp
+
+            sh, ti, amp = fits(S[:, band])
+            delta, delta_err = jackknife(S[:, band], lambda v, f=fits: f(v)[0][2])
+            print(
+                f"  N = {N:.0f} ({len(files)} realisations, {o.size} frequencies): shift delta = "
+                f"{delta:+.4f} +- {delta_err:.4f} (A {sh[1]:.3f}), chi^2 {sh[0]:.1f}; tilt b = "
+                f"{ti[2]:+.3f} (A {ti[1]:.3f}), chi^2 {ti[0]:.1f}; amplitude alone chi^2 {amp:.1f}",
+                flush=True,
+            )
+
+
 def main(argv):
-    if not argv or argv[0] not in ("theory", "run", "analyse"):
+    if not argv or argv[0] not in ("theory", "run", "analyse", "lineshape"):
         sys.exit(__doc__)
     if argv[0] == "theory":
         theory()
@@ -225,8 +320,10 @@ def main(argv):
         if len(argv) != 6:
             sys.exit("usage: mode_trapping.py run OUT CASE N FIRST LAST")
         run(argv[1], argv[2], float(argv[3]), argv[4], argv[5])
-    else:
+    elif argv[0] == "analyse":
         analyse(argv[1], argv[2:] or CASES)
+    else:
+        lineshape(argv[1], argv[2:] or CASES)
 
 
 if __name__ == "__main__":

@@ -76,3 +76,35 @@ def test_reference_bounce_ratios_follow_from_its_mode_parameters():
             y = float(said)
             tol = 0.5 * 10.0 ** (np.floor(np.log10(y)) - 2) + 1e-3 * y
             assert abs(x - y) <= tol, (N, x, said)
+
+
+def _lorentz(w, w0=1.44, g=0.0756):
+    return g / ((w - w0) ** 2 + g**2) + 0.3
+
+
+def _noisy(model, om, rel=0.02, seed=0):
+    rng = np.random.default_rng(seed)
+    err = rel * model
+    return model + err * rng.standard_normal(om.size), err
+
+
+def test_lineshape_fits_recover_a_shift_and_a_tilt():
+    """The two line-shape models of `lineshape`: a line moved by delta is fitted back by the
+    shift model (delta within its resolution, chi^2 far below the tilt's), and a tilted line
+    by the tilt model (b recovered, chi^2 far below the shift's)."""
+    mt = load_study("mode_trapping")
+    om = np.linspace(1.44 - 0.3, 1.44 + 0.3, 49)
+    grid = np.arange(-0.05, 0.05 + 1e-12, 2.5e-4)
+    x = (om - 1.44) / 0.0756
+
+    shifted, err = _noisy(1.3 * _lorentz(om + 0.0139), om)
+    chi_s, amp, delta = mt._fit_shift(shifted, err, _lorentz, om, grid)
+    chi_t, _, _ = mt._fit_tilt(shifted, err, _lorentz(om), x)
+    assert abs(delta + 0.0139) < 1e-3 and abs(amp - 1.3) < 0.02
+    assert chi_s < 2 * om.size < chi_t
+
+    tilted, err = _noisy(0.9 * _lorentz(om) * (1 - 0.1 * x), om, seed=1)
+    chi_t, amp, b = mt._fit_tilt(tilted, err, _lorentz(om), x)
+    chi_s, _, _ = mt._fit_shift(tilted, err, _lorentz, om, grid)
+    assert abs(b + 0.1) < 0.003 and abs(amp - 0.9) < 0.02
+    assert chi_t < 2 * om.size < chi_s
