@@ -2088,11 +2088,12 @@ CLAIMS = [
         "lines moved from 3.1 % to 3.5 % (ch2*) and from 2.8 % to 3.2 % (u = -0.2), their floors "
         "staying 3.2 % and 3.1 %: a median over 28 bins",
     ),
-    # ------------------------------------------------------------------ findings: u = 0.2475, 40 seeds
+    # ------------------------------------------------------------------ findings: u = 0.2475
     C(
         F,
         SEEDS2475,
-        "  0.942     10.43 |     9.772 0.937  -1.2 |      9.21 0.883  -3.0 |  -0.8      |       0.910",
+        "  0.942     10.43 |     9.772 0.937  -1.2 |      9.21 0.883  -3.0 |  -0.8      |"
+        "       0.910",
         "about 9 % low beside the separatrix over 40 realisations",
         {"9": "100 - 100 * 0.910"},
     ),
@@ -2210,11 +2211,14 @@ CLAIMS = [
         F,
         LS,
         [
-            "N = 1000 (48 realisations, 48 frequencies): shift delta = -0.0245 +- 0.0059 (A 0.920), "
+            "N = 1000 (48 realisations, 48 frequencies): shift delta = -0.0245 +- 0.0059 "
+            "(A 0.920), "
             "chi^2 134.9; tilt b = -0.070 (A 0.820), chi^2 171.9",
-            "N = 4000 (48 realisations, 48 frequencies): shift delta = -0.0185 +- 0.0038 (A 0.999), "
+            "N = 4000 (48 realisations, 48 frequencies): shift delta = -0.0185 +- 0.0038 "
+            "(A 0.999), "
             "chi^2 112.4; tilt b = -0.050 (A 0.928), chi^2 151.7",
-            "N = 16000 (32 realisations, 48 frequencies): shift delta = -0.0112 +- 0.0040 (A 0.991), "
+            "N = 16000 (32 realisations, 48 frequencies): shift delta = -0.0112 +- 0.0040 "
+            "(A 0.991), "
             "chi^2 62.1; tilt b = -0.001 (A 0.929), chi^2 83.4",
             "N = 64000 (24 realisations, 48 frequencies): shift delta = -0.0027 +- 0.0033",
             "N = 256000 (16 realisations, 48 frequencies): shift delta = +0.0093 +- 0.0058",
@@ -2314,7 +2318,8 @@ CLAIMS = [
     C(
         V,
         SEEDS2475,
-        "  0.942     10.43 |     9.772 0.937  -1.2 |      9.21 0.883  -3.0 |  -0.8      |       0.910",
+        "  0.942     10.43 |     9.772 0.937  -1.2 |      9.21 0.883  -3.0 |  -0.8      |"
+        "       0.910",
         "about 9 % low over 40 realisations",
         {"9": "100 - 100 * 0.910"},
     ),
@@ -2372,12 +2377,15 @@ CLAIMS = [
             "accumulation 0.18",
             "earlier 3.39 s",
             "present 2.36 s",
-            "CPU present / earlier 0.503; error present / earlier (median, from the studies) 0.975; "
+            "CPU present / earlier 0.503; error present / earlier (median"
+            ", from the studies) 0.975; "
             "error at equal CPU present / earlier 0.692",
-            "CPU present / earlier 0.695; error present / earlier (median, from the studies) 0.974; "
+            "CPU present / earlier 0.695; error present / earlier (median"
+            ", from the studies) 0.974; "
             "error at equal CPU present / earlier 0.812",
         ],
-        "`bench_md.py` gave 1.94e+09 particle-steps/s on 2 threads just before). One u = 0 MD(full) "
+        "`bench_md.py` gave 1.94e+09 particle-steps/s on 2 threads just before). One u = 0 "
+        "MD(full) "
         "realisation at N = 5e5 costs 7.41 s instead of 14.73 s (integration 6.85 s against 8.43, "
         "actions 0.23 against 2.94, accumulation 0.18 against 3.14), one MD(bath) realisation "
         "2.36 s instead of 3.39. With the errors 0.975 (MD(full)) and 0.974 (MD(bath)) times the "
