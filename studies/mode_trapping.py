@@ -164,12 +164,37 @@ def _spectra(data, N, part, seg):
     return om, np.array(rows), dt
 
 
+def _dressed_spectrum(state):
+    """The linear dressed N S_x of `state` as a callable of omega."""
+    from hmfdiff.kinetic.dielectric import DielectricTensor
+    from hmfdiff.kinetic.spectrum import bath_spectrum
+
+    tensor = DielectricTensor(state)
+
+    def dressed(w):
+        return bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
+
+    return dressed
+
+
+def _ensembles(out, case):
+    """(files, datasets, N, samples, Welch segment) of each N{N} folder of OUT/CASE with at
+    least four realisations, in increasing N."""
+    from hmfdiff.pipeline.io import read_dataset
+
+    for folder in sorted((Path(out) / case).glob("N*"), key=lambda p: int(p.name[1:])):
+        files = sorted(folder.glob("seed*.nc"))
+        if len(files) < 4:
+            continue
+        data = [read_dataset(p) for p in files]
+        n_t = min(ds.sizes["time_fine"] for ds in data)
+        seg = int(round(float(data[0].attrs["max_lag"]) / float(data[0].attrs["m_every"])))
+        yield files, data, float(data[0].attrs["N"]), n_t, seg
+
+
 def analyse(out, cases):
     from hmfdiff.analysis.md_spectrum import smoothed
     from hmfdiff.analysis.relaxation_md import jackknife
-    from hmfdiff.kinetic.dielectric import DielectricTensor
-    from hmfdiff.kinetic.spectrum import bath_spectrum
-    from hmfdiff.pipeline.io import read_dataset
 
     print("# The mode in MD(full) against the linear dressed theory (studies/mode_trapping.py")
     print("# analyse; +- jackknife over realisations).  at mode: N S_x within one resolution")
@@ -180,20 +205,9 @@ def analyse(out, cases):
     print("# and second half of the run, segments of half the length)")
     for case in cases:
         state, omega0, gamma, power, res = mode_parameters(case)
-        tensor = DielectricTensor(state)
-
-        def dressed(w, state=state, tensor=tensor):
-            return bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
-
+        dressed = _dressed_spectrum(state)
         print(f"{case}: omega0 = {omega0:.5f}, gamma = {gamma:.5f}")
-        for folder in sorted((Path(out) / case).glob("N*"), key=lambda p: int(p.name[1:])):
-            files = sorted(folder.glob("seed*.nc"))
-            if len(files) < 4:
-                continue
-            data = [read_dataset(p) for p in files]
-            N = float(data[0].attrs["N"])
-            n_t = min(ds.sizes["time_fine"] for ds in data)
-            seg = int(round(float(data[0].attrs["max_lag"]) / float(data[0].attrs["m_every"])))
+        for files, data, N, n_t, seg in _ensembles(out, case):
             cells = []
             for part, length in (
                 (slice(0, n_t), seg),
@@ -253,9 +267,6 @@ def _fit_tilt(mean, err, th, x):
 def lineshape(out, cases):
     from hmfdiff.analysis.md_spectrum import smoothed
     from hmfdiff.analysis.relaxation_md import jackknife
-    from hmfdiff.kinetic.dielectric import DielectricTensor
-    from hmfdiff.kinetic.spectrum import bath_spectrum
-    from hmfdiff.pipeline.io import read_dataset
 
     print("# The mode's line shape in MD(full) (studies/mode_trapping.py lineshape): over")
     print("# omega0 -+ max(4 gamma, 0.15), the mean N S_x fitted by A S_lin(omega - delta) (shift)")
@@ -263,21 +274,10 @@ def lineshape(out, cases):
     print("# A S_lin alone (amplitude); delta +- jackknife over realisations")
     for case in cases:
         state, omega0, gamma, _, _ = mode_parameters(case)
-        tensor = DielectricTensor(state)
-
-        def dressed(w, state=state, tensor=tensor):
-            return bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
-
+        dressed = _dressed_spectrum(state)
         half = max(4.0 * gamma, 0.15)
         print(f"{case}: omega0 = {omega0:.5f}, gamma = {gamma:.5f}, band +-{half:.3f}")
-        for folder in sorted((Path(out) / case).glob("N*"), key=lambda p: int(p.name[1:])):
-            files = sorted(folder.glob("seed*.nc"))
-            if len(files) < 4:
-                continue
-            data = [read_dataset(p) for p in files]
-            N = float(data[0].attrs["N"])
-            n_t = min(ds.sizes["time_fine"] for ds in data)
-            seg = int(round(float(data[0].attrs["max_lag"]) / float(data[0].attrs["m_every"])))
+        for files, data, N, n_t, seg in _ensembles(out, case):
             om, S, dt = _spectra(data, N, slice(0, n_t), seg)
             band = np.abs(om - omega0) < half
             o = om[band]
