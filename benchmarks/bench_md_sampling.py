@@ -16,7 +16,9 @@ sample_every_u0.0_full.txt (sampling interval), both MD(full) of u = 0 (studies/
 The figure of merit is the error at equal CPU time, err x sqrt(CPU): its ratio present /
 earlier is (error ratio) x sqrt(CPU ratio), below 1 when the present settings buy more
 precision per CPU-second.  The two error ratios were measured one lever at a time; their
-product stands for both together.
+product stands for both together.  MD(bath) tracks only its test particles, so only the
+sampling interval applies to it, and its error ratio is borrowed from the MD(full) study
+(studies/validation_runs.py on two full runs measures it directly).
 
 Kernels are compiled on a tiny run before any timing; no numba cache.
 """

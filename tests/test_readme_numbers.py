@@ -2443,6 +2443,17 @@ CLAIMS = [
         ],
         "and 1.022, 0.925 (z = +0.3, -1.3) at 4e6",
     ),
+    C(
+        P,
+        RUNS,
+        [
+            "thermal_u0.2475 bath: 28 bins; error B / error A median 0.996",
+            "corehalo_ch2 bath: 28 bins; error B / error A median 0.998",
+            "thermal_u-0.2 bath: 28 bins; error B / error A median 0.997",
+            "thermal_u0.0 bath: 28 bins; error B / error A median 0.997",
+        ],
+        "the two full runs give MD(bath) errors 0.996-0.998 times the earlier ones",
+    ),
 ]
 
 
