@@ -2459,6 +2459,7 @@ CLAIMS = [
 
 #: numbers that are parameters, definitions or names, not results: (page, phrase)
 CONTEXT = [
+    ("docs/findings.md", "which shrinks only as N^-1/5"),
     ("docs/findings.md", "over omega = 0.1-0.4 N S_x"),
     ("docs/findings.md", "At N = 4e6 (20 realisations"),
     ("docs/findings.md", "1 % below the critical energy, is open"),
