@@ -2477,7 +2477,7 @@ CONTEXT = [
     ("docs/findings.md", "which shrinks only as N^-1/5"),
     ("docs/findings.md", "over omega = 0.1-0.4 N S_x"),
     ("docs/findings.md", "At N = 4e6 (20 realisations"),
-    ("docs/findings.md", "1 % below the critical energy, is open"),
+    ("docs/findings.md", "state 1 % below the critical energy. The second"),
     ("docs/findings.md", "and beta1 = 20, with a damping three times smaller"),
     ("docs/findings.md", "against 2 pi / 500)"),
     ("docs/findings.md", "A S_lin(omega) (1 + b (omega - omega0) / gamma)"),
