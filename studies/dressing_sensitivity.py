@@ -6,10 +6,10 @@ misplaced or fluctuating M0 make the MD's field look weaker than the theory's?
 At u = 0.2475 (1 % below the critical energy) MD(full)'s N S_x over omega = 0.1-0.4, where the
 dressing multiplies the bare spectrum by about 15, is about 0.89 of the linear dressed theory
 at N = 1e6 and 4e6 (docs/findings.md).  MD(full)'s <|M|> differs from M0 by up to 2.5 % per
-realisation.  This prints, for thermal states whose M0 is that of U times 0.970 ... 1.030
-(beta from the Bessel self-consistency at each M0), the dressed N S_x = S_bare / |eps_cc|^2
-(`kinetic.spectrum.bath_spectrum`, `kinetic.dielectric`) integrated over the bands
-0.1-0.2, 0.2-0.4, 0.1-0.4 and 0.4-0.8, relative to the state's own, and the mean of the
+realisation at N = 1e6 (studies/separatrix_bins.py).  This prints, for thermal states whose
+M0 is that of U times 0.970 ... 1.030 (beta from the Bessel self-consistency at each M0), the
+dressed N S_x = S_bare / |eps_cc|^2 (`kinetic.spectrum.dressed_spectrum`) integrated over the
+bands 0.1-0.2, 0.2-0.4, 0.1-0.4 and 0.4-0.8, relative to the state's own, and the mean of the
 +-offsets (what a symmetric scatter of M0 over realisations gives to second order).
 """
 
@@ -21,7 +21,7 @@ import numpy as np
 from _realisations import emit
 
 from hmfdiff.kinetic.dielectric import DielectricTensor
-from hmfdiff.kinetic.spectrum import bath_spectrum
+from hmfdiff.kinetic.spectrum import dressed_spectrum
 from hmfdiff.meanfield import equilibrium
 
 BANDS = ((0.1, 0.2), (0.2, 0.4), (0.1, 0.4), (0.4, 0.8))
@@ -31,9 +31,7 @@ SCALES = (0.97, 0.985, 1.0, 1.015, 1.03)
 def band_powers(M0, omega):
     """The dressed N S_x of the thermal state of magnetisation M0, integrated over each band."""
     state = equilibrium.ThermalState(M0=M0)
-    dressed = (
-        bath_spectrum(state, omega, component="cc") / np.abs(DielectricTensor(state)(omega)[0]) ** 2
-    )
+    dressed = dressed_spectrum(state, omega, DielectricTensor(state))
     out = []
     for lo, hi in BANDS:
         inside = (omega >= lo) & (omega <= hi)

@@ -48,6 +48,7 @@ compared between models, not against their degrees of freedom.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import sys
 from pathlib import Path
 
@@ -76,7 +77,7 @@ def mode_parameters(case):
     eps_cc mode."""
     from hmfdiff.kinetic.dielectric import DielectricTensor
     from hmfdiff.kinetic.modes import least_damped_modes
-    from hmfdiff.kinetic.spectrum import bath_spectrum
+    from hmfdiff.kinetic.spectrum import dressed_spectrum
     from hmfdiff.meanfield import orbits
     from hmfdiff.meanfield.equilibrium import make_state
     from hmfdiff.meanfield.fourier import cos_coefficient
@@ -88,7 +89,7 @@ def mode_parameters(case):
     z = rep.zeros[rep.stable_mask][0]
     omega0, gamma = float(z.real), float(-z.imag)
     w = np.linspace(omega0 - 10 * gamma, omega0 + 10 * gamma, 4001)
-    dressed = bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
+    dressed = dressed_spectrum(state, w, tensor)
     power = 2.0 * np.trapezoid(dressed, w) / (2.0 * np.pi)  # both signs of omega
     kappa = float(orbits.kappa_from_frequency(omega0 / HARMONIC, M0, "libration"))
     res = {
@@ -167,14 +168,9 @@ def _spectra(data, N, part, seg):
 def _dressed_spectrum(state):
     """The linear dressed N S_x of `state` as a callable of omega."""
     from hmfdiff.kinetic.dielectric import DielectricTensor
-    from hmfdiff.kinetic.spectrum import bath_spectrum
+    from hmfdiff.kinetic.spectrum import dressed_spectrum
 
-    tensor = DielectricTensor(state)
-
-    def dressed(w):
-        return bath_spectrum(state, w, component="cc") / np.abs(tensor(w)[0]) ** 2
-
-    return dressed
+    return functools.partial(dressed_spectrum, state, eps=DielectricTensor(state))
 
 
 def _ensembles(out, case):

@@ -49,6 +49,20 @@ def test_table_interpolates_the_direct_spectrum(thermal):
     )
 
 
+def test_dressed_table_interpolates_the_direct_dressed_spectrum(thermal):
+    """The table divides by |eps|^2 on its grid and interpolates; dressed_spectrum divides the
+    root-found bare spectrum at each omega: the two agree away from the band edges."""
+    eps = DielectricTensor(thermal, l_max=6)
+    tab = spectrum.SpectrumTable(thermal, n_max=6, eps=eps)
+    w = np.array([0.05, 0.3, 0.7, 1.2, 1.9, 3.0])
+    for comp in ("cc", "ss"):
+        direct = spectrum.dressed_spectrum(thermal, w, eps, 6, comp)
+        np.testing.assert_allclose(tab(w, comp), direct, rtol=1e-4, atol=1e-12)
+        bare = spectrum.bath_spectrum(thermal, w, 6, comp)
+        ok = bare > 0
+        assert np.any(np.abs(direct[ok] / bare[ok] - 1) > 0.05)  # the dressing matters here
+
+
 @pytest.mark.parametrize("collective", [False, True])
 def test_diffusion_through_the_spectrum_equals_the_resonance_sum(thermal, collective):
     eps = DielectricTensor(thermal, l_max=6) if collective else None

@@ -36,6 +36,7 @@ from ..meanfield.fourier import cos_coefficient, sin_coefficient_imag
 
 __all__ = [
     "bath_spectrum",
+    "dressed_spectrum",
     "SpectrumTable",
     "diffusion_from_spectrum",
     "bin_diffusion_from_spectrum",
@@ -72,6 +73,15 @@ def bath_spectrum(state, omega, n_max=6, component="cc"):
                 )
             out += np.where(ok & np.isfinite(dens), dens, 0.0)
     return 4.0 * np.pi**2 * out
+
+
+def dressed_spectrum(state, omega, eps, n_max=6, component="cc"):
+    """N S(omega) of the dressed bath, the bare one divided by |eps|^2 of the same component,
+    evaluated at omega directly (`SpectrumTable` with eps tabulates it).  eps: callable omega ->
+    (eps_cc, eps_ss), such as a `DielectricTensor`."""
+    bare = bath_spectrum(state, omega, n_max, component)  # checks the component
+    e = eps(np.atleast_1d(np.asarray(omega, dtype=float)))[_COMPONENTS.index(component)]
+    return bare / np.abs(e) ** 2
 
 
 class SpectrumTable:
