@@ -375,6 +375,23 @@ def test_run_md_deterministic_and_thread_independent(state):
     np.testing.assert_allclose(a["sum_dJ2_block"].sum("block"), a["sum_dJ2"])
 
 
+def test_run_md_full_lags_depend_only_on_the_origins_they_read(state):
+    """<dJ^2> at a lag reads the samples of the origins 0 ... t_max - max_lag only: a run cut to
+    t_max - (max_lag - L) with max_lag = L gives MD(full) the same sums to the bit at lags <= L
+    (what lets thermal_u0.2475 run t_max 700, max_lag 200 for its fit window 50-200)."""
+    full = MDRun(**RUN, dynamics="full", n_particles=3000, n_test=50)
+    cut = MDRun(**dict(RUN, t_max=17.0, max_lag=2.0), dynamics="full", n_particles=3000, n_test=50)
+    assert cut.n_origins == full.n_origins
+    a = run_dataset(state, full, 4)
+    b = run_dataset(state, cut, 4)
+    assert b.sizes["lag"] < a.sizes["lag"]
+    short = a.isel(lag=slice(0, b.sizes["lag"]))
+    np.testing.assert_array_equal(short["lag"].values, b["lag"].values)
+    for v in ("sum_dJbar2", "sum_dJ2", "count", "sum_dJbar2_block"):
+        np.testing.assert_array_equal(short[v].values, b[v].values)
+    assert np.any(short["sum_dJbar2"].values[:, 1:] > 0)
+
+
 def test_run_md_bath(state):
     run = MDRun(
         **dict(RUN, t_equilibrate=1.0),

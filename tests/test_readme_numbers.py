@@ -190,7 +190,15 @@ def test_config_facts_the_pages_state():
     runs = md["runs"]
     assert (md["seeds_bath"], md["seeds"], md["t_max"]) == (40, 20, 1000.0)
     assert md["fit_window"] == [100.0, 500.0]
-    assert runs["thermal_u0.2475"] == {"n_particles": 1000000, "fit_window": [50.0, 200.0]}
+    assert runs["thermal_u0.2475"] == {
+        "n_particles": 1000000,
+        "fit_window": [50.0, 200.0],
+        "t_max": 700.0,
+        "max_lag": 200.0,
+    }
+    # origins 0-500 on every line (docs/validation.md)
+    for t_max, max_lag in ((md["t_max"], md["max_lag"]), (700.0, 200.0)):
+        assert t_max - max_lag == 500.0
     for case in ("thermal_u-0.2", "thermal_u0.0", "corehalo_ch2"):
         assert runs[case] == {"n_particles": 500000}, case
 
@@ -2570,6 +2578,8 @@ CONTEXT = [
     ("docs/validation.md", "the thermal states u = -0.2, 0.0 (N = 5e5) and 0.2475 (N = 1e6, 1 %"),
     ("docs/validation.md", "(N = 5e5); 40 MD(bath) and 20 MD(full) realisations each, T = 1000"),
     ("docs/validation.md", "(lags 100-500; 50-200 at u = 0.2475)"),
+    ("docs/validation.md", "T = 1000 (T = 700 at u = 0.2475"),
+    ("docs/validation.md", "from time origins 0-500"),
     ("docs/validation.md", "n_seeds - 1 degrees"),
     ("docs/validation.md", "sqrt(2 D lag)"),
     ("docs/validation.md", "N^-1/2"),
