@@ -77,14 +77,18 @@ def general_eps_quadrature(state, omega, l_max, points=(), panels=200, order=16)
             x0 = omega / l
             for fam, (a, b) in (("libration", (0.0, 1.0)), ("rotation", (1.0, state.kappa_max))):
                 kp = float(orbits.kappa_from_frequency(x0, M0, fam)) if x0 > 0 else np.nan
-                # a pole within 1e-9 of the separatrix carries g/|Omega'| ~ 0: no subtraction
-                pole = np.isfinite(kp) and a < kp < b and abs(kp - 1.0) > 1e-9
+                # a pole within 1e-9 of the separatrix carries g/|Omega'| ~ 0, and one at the
+                # bottom of the well (omega/l within rounding of Omega_0, kappa_p < 1e-6)
+                # g ~ kappa^(2|l|) ~ 0: no subtraction
+                pole = np.isfinite(kp) and a < kp < b and abs(kp - 1.0) > 1e-9 and kp > 1e-6
                 edges = [*np.linspace(a, b, panels + 1), *points, *grade] + ([kp] if pole else [])
                 edges = np.unique([e for e in edges if a <= e <= b])
                 lo, hi = edges[:-1, None], edges[1:, None]
                 k = (0.5 * (hi - lo) * x + 0.5 * (hi + lo)).ravel()
                 wk = (0.5 * (hi - lo) * wx).ravel()
-                integrand = g(k) / (orbits.frequency(k, M0) - x0)
+                gap = orbits.frequency(k, M0) - x0
+                # nodes whose Omega rounds onto x0 (the flat bottom of the well, g ~ 0 there)
+                integrand = g(k) / np.where(gap == 0.0, np.inf, gap)
                 if pole:
                     dO = float(orbits.dOmega_dkappa(kp, M0))
                     G0 = float(g(kp)) / dO

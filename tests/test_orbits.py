@@ -129,6 +129,50 @@ def test_kappa_from_frequency_inverts_frequency():
     assert np.isnan(orbits.kappa_from_frequency(1.5 * s, M0, "libration"))
 
 
+@pytest.mark.parametrize("librating", [True, False])
+def test_inverse_frequency_slope_is_the_derivative_of_its_value(librating):
+    """The Newton iteration of kappa_from_frequency steps with d ln F/dt of
+    `_log_inverse_frequency`: against a central difference of its ln F, over the whole range
+    of t = ln(m1/m) (a wrong slope would leave the iteration to its bisection fallback)."""
+    t = np.linspace(-60.0, 30.0, 181)
+    h = 1e-5
+    _, slope = orbits._log_inverse_frequency(t, librating)
+    up, _ = orbits._log_inverse_frequency(t + h, librating)
+    down, _ = orbits._log_inverse_frequency(t - h, librating)
+    np.testing.assert_allclose(slope, (up - down) / (2.0 * h), rtol=1e-6, atol=1e-10)
+
+
+@pytest.mark.parametrize("family", ["libration", "rotation"])
+def test_kappa_from_frequency_roots_over_the_whole_family(family, monkeypatch):
+    """Omega(kappa(omega)) = omega to what the representation of kappa allows, from next to the
+    separatrix (|kappa - 1| ~ 1e-13 to 1e-15) to the bottom of the well or far out
+    on rotation, agreeing with bisection of the same equation to the inverse's conditioning;
+    the Newton iteration solves all of them (none left to its fallback)."""
+    s = np.sqrt(M0)
+    if family == "libration":
+        om = s * np.concatenate([np.geomspace(0.1, 0.99, 400), 1.0 - np.geomspace(1e-3, 1e-9, 5)])
+        lo, hi = 0.0, 1.0
+        fun = lambda k: -orbits.frequency(k, M0)  # noqa: E731
+        target = -om
+    else:
+        om = s * np.geomspace(0.2, 1e3, 400)  # below ~0.16 Omega_0 kappa - 1 < 1e-16
+        lo, hi = 1.0, om / s + 2.0
+        fun = lambda k: orbits.frequency(k, M0)  # noqa: E731
+        target = om
+    ref = orbits._bisect(fun, target, lo, hi)
+    fallback = []
+    monkeypatch.setattr(orbits, "_bisect", lambda *a, **kw: fallback.append(a) or a[2])
+    k = orbits.kappa_from_frequency(om, M0, family)
+    assert not fallback  # every root found by the Newton iteration
+    # one ulp of kappa moves Omega by |dOmega/dkappa| ulp(kappa): beside the separatrix far
+    # more than one ulp of Omega
+    slack = np.abs(orbits.dOmega_dkappa(k, M0)) * np.spacing(k)
+    assert np.all(np.abs(orbits.frequency(k, M0) - om) <= 8 * np.spacing(om) + 2 * slack)
+    # relative conditioning of kappa(omega): |d ln kappa / d ln omega|
+    cond = np.abs(om / (k * orbits.dOmega_dkappa(k, M0)))
+    assert np.all(np.abs(k / ref - 1.0) <= 2e-15 * np.maximum(cond, 1.0))
+
+
 def test_bad_inputs_raise():
     with pytest.raises(ValueError, match="librating action"):
         orbits.kappa_from_action(10.0, M0, "libration")

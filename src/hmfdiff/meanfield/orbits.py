@@ -236,27 +236,84 @@ def kappa_from_action(J, M0, family):
     raise ValueError(f"family must be 'libration' or 'rotation', got {family!r}")
 
 
-def kappa_from_frequency(omega, M0, family, kappa_max=1e6):
+#: t = ln(m1/m) below which kappa rounds to 1 on either side of the separatrix (m1 < 2e-35)
+_T_DEEP = -80.0
+
+
+def _log_inverse_frequency(t, librating):
+    """(ln F, d ln F/dt) at t = ln(m1/m) (m = k^2 the elliptic parameter, m1 = 1 - m):
+    F = pi sqrt(M0)/(2 Omega) = K(m) on librating orbits, pi sqrt(M0)/Omega = sqrt(m) K(m) on
+    rotating ones (eq. hmfomega), with d ln K/dt = -(E - m1 K)/(2K) = -m (K - R_D(0, m1, 1)/3)
+    /(2K) and d ln(sqrt(m) K)/dt = -E/(2K).  ln F is smooth and monotonic in t, linear at both
+    ends (ln F ~ ln(ln 4 - t/2) at the separatrix, t -> -inf)."""
+    m = special.expit(-t)
+    m1 = special.expit(t)
+    K = _K(m, m1)
+    if librating:
+        return np.log(K), -m * (K - special.elliprd(0.0, m1, 1.0) / 3.0) / (2.0 * K)
+    return np.log(np.sqrt(m) * K), -special.ellipe(m) / (2.0 * K)
+
+
+_INVERSE_TABLES = {}
+
+
+def _inverse_frequency_table(librating):
+    """(t, ln F(t)) on _T_DEEP <= t <= 40, the start of the Newton iteration (M0-independent)."""
+    if librating not in _INVERSE_TABLES:
+        t = np.concatenate([np.linspace(_T_DEEP, -5.0, 200), np.linspace(-5.0, 40.0, 900)[1:]])
+        _INVERSE_TABLES[librating] = (t, _log_inverse_frequency(t, librating)[0])
+    return _INVERSE_TABLES[librating]
+
+
+def kappa_from_frequency(omega, M0, family, kappa_max=1e6, max_iter=30):
     """Solve Omega(kappa) = omega on one family.
 
-    Omega decreases with kappa on libration and increases on rotation.
+    Omega decreases with kappa on libration and increases on rotation.  Newton's iteration on
+    ln(1/Omega) in t = ln(m1/m) (`_log_inverse_frequency`), from a tabulated inverse; a point
+    whose step has not fallen below 1e-11 (relative) after max_iter steps, and the deep ones
+    within ~1e-35 of the separatrix (kappa = 1 to rounding) are solved by bisection.  kappa is
+    that of the root to rounding where the inverse is well conditioned; near the bottom of the
+    well (omega -> Omega_0, kappa -> 0) Omega changes by less than its rounding over a range
+    of kappa, and any kappa in it is returned.  Rotating kappa is capped at kappa_max.
 
     Returns NaN where there is no root (omega >= Omega_0 on libration, omega <= 0).
     """
     omega = _as_array(omega)
     s = np.sqrt(M0)
-    if family == "libration":
-        ok = (omega > 0) & (omega < s)
-        k = _bisect(lambda k: -frequency(k, M0), -np.where(ok, omega, 0.5 * s), 0.0, 1.0)
-    elif family == "rotation":
-        ok = omega > 0
-        # Omega ~ 2 sqrt(M0) kappa for large kappa
-        hi = np.maximum(np.where(ok, omega, s) / (2.0 * s) * 2.0 + 2.0, 2.0)
-        hi = np.minimum(hi, kappa_max)
-        k = _bisect(lambda k: frequency(k, M0), np.where(ok, omega, s), 1.0, hi)
-    else:
+    if family not in ("libration", "rotation"):
         raise ValueError(f"family must be 'libration' or 'rotation', got {family!r}")
-    return np.where(ok, k, np.nan)
+    librating = family == "libration"
+    shape = omega.shape
+    w = omega.ravel()
+    ok = (w > 0) & (w < s) if librating else w > 0
+    scale = np.pi * s / (2.0 if librating else 1.0)
+    target = np.log(scale / np.where(ok, w, 1.0))
+    tt, lnF = _inverse_frequency_table(librating)
+    t = np.interp(-target, -lnF, tt)  # ln F decreases with t
+    act = np.flatnonzero(ok & (target <= lnF[0]))
+    slow = np.zeros(w.shape, dtype=bool)
+    slow[ok & (target > lnF[0])] = True
+    for _ in range(max_iter):
+        if act.size == 0:
+            break
+        val, slope = _log_inverse_frequency(t[act], librating)
+        step = (val - target[act]) / slope
+        t[act] -= step
+        act = act[~(np.abs(step) <= 1e-11 * np.maximum(1.0, np.abs(t[act])))]
+    slow[act] = True
+    with np.errstate(over="ignore"):
+        k = np.sqrt(special.expit(-t)) if librating else np.sqrt(1.0 + np.exp(t))
+    if not librating:
+        # Omega ~ 2 sqrt(M0) kappa for large kappa
+        hi = np.minimum(np.maximum(np.where(ok, w, s) / (2.0 * s) * 2.0 + 2.0, 2.0), kappa_max)
+        k = np.minimum(k, hi)
+    if np.any(slow):
+        ws = w[slow]
+        if librating:
+            k[slow] = _bisect(lambda x: -frequency(x, M0), -ws, 0.0, 1.0)
+        else:
+            k[slow] = _bisect(lambda x: frequency(x, M0), ws, 1.0, hi[slow])
+    return np.where(ok, k, np.nan).reshape(shape)
 
 
 def angle_action(theta, p, M0):
