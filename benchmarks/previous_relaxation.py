@@ -6,7 +6,9 @@ M0 was found by brentq on `grid.magnetisation_map` with eta(J-bar offset) by New
 every cell edge until all had converged (and one evaluation per bisection step where they
 did not); f was remapped with a Python loop over the cells
 that span old edges; the dielectric tensor's quadrature formed its whole matrix of
-1/(Omega - x0) at once, and kappa(Omega) bisected every point 80 times.
+1/(Omega - x0) at once, and kappa(Omega) bisected every point 80 times (by bisection alone
+until Newton's iteration replaced it, `kappa_from_frequency` here); the tabulated state's M0
+was bracketed on 9 points over +- 0.01 of its guess (`tabulated_solve_M0`).
 
 `previous_path()` puts them in place of the present ones.
 """
@@ -21,6 +23,7 @@ from scipy import linalg, optimize
 
 from hmfdiff.kinetic import dielectric as D
 from hmfdiff.kinetic import relaxation as R
+from hmfdiff.kinetic import tabulated as T
 from hmfdiff.kinetic.grid import JS_HAT, _limited_slopes, frame_offsets
 from hmfdiff.meanfield import orbits, separatrix
 from hmfdiff.meanfield.equilibrium import EquilibriumError
@@ -267,6 +270,47 @@ def bisect(fun, target, lo, hi, iters=80):
     return 0.5 * (lo + hi)
 
 
+def kappa_from_frequency(omega, M0, family, kappa_max=1e6):
+    """`orbits.kappa_from_frequency` by bisection of Omega(kappa) on each family."""
+    omega = np.asarray(omega, dtype=float)
+    s = np.sqrt(M0)
+    if family == "libration":
+        ok = (omega > 0) & (omega < s)
+        k = orbits._bisect(
+            lambda k: -orbits.frequency(k, M0), -np.where(ok, omega, 0.5 * s), 0.0, 1.0
+        )
+    elif family == "rotation":
+        ok = omega > 0
+        hi = np.maximum(np.where(ok, omega, s) / (2.0 * s) * 2.0 + 2.0, 2.0)
+        hi = np.minimum(hi, kappa_max)
+        k = orbits._bisect(lambda k: orbits.frequency(k, M0), np.where(ok, omega, s), 1.0, hi)
+    else:
+        raise ValueError(f"family must be 'libration' or 'rotation', got {family!r}")
+    return np.where(ok, k, np.nan)
+
+
+def tabulated_solve_M0(jbar, f, guess=None, order=24):
+    """`tabulated.solve_M0` bracketing on 9 points over guess +- 0.01, then wider."""
+    jbar = np.asarray(jbar, dtype=float)
+    logf = np.log(np.asarray(f, dtype=float))
+
+    def g(M):
+        return T._magnetisation_map(jbar, logf, M, order) - M
+
+    for half in (0.01, 0.05, 0.2) if guess is not None else ():
+        lo, hi = max(guess - half, 1e-3), min(guess + half, 0.999)
+        grid = np.linspace(lo, hi, 9)
+        vals = np.array([g(M) for M in grid])
+        idx = np.flatnonzero(np.sign(vals[:-1]) != np.sign(vals[1:]))
+        if idx.size:
+            roots = [optimize.brentq(g, grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15) for i in idx]
+            return min(roots, key=lambda r: abs(r - guess))
+    return _PRESENT_SOLVE_M0(jbar, f, guess=None, order=order)
+
+
+_PRESENT_SOLVE_M0 = T.solve_M0
+
+
 @contextlib.contextmanager
 def previous_path():
     """`relaxation.evolve` with the solves above in place of the present ones."""
@@ -276,6 +320,8 @@ def previous_path():
         (R, "remap", remap),
         (D.DielectricTensor, "_branch_term", branch_term),
         (orbits, "_bisect", bisect),
+        (orbits, "kappa_from_frequency", kappa_from_frequency),
+        (T, "solve_M0", tabulated_solve_M0),
     ]
     saved = [(where, k, getattr(where, k)) for where, k, _ in swaps]
     for where, k, v in swaps:

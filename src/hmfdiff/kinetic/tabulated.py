@@ -192,8 +192,9 @@ def _magnetisation_map(jbar, logf, M0, order):
 def solve_M0(jbar, f, guess=None, order=24):
     """Self-consistent M0 of the table f(J-bar): root of int f cos(theta) / int f - M0.
 
-    With a guess, the root nearest to it (searched in guess +- 0.05, then wider); otherwise the
-    largest root in (0.01, 0.99).
+    With a guess, the root nearest to it (searched in guess +- 0.001 on 3 points, then +- 0.01
+    and wider on 9: a guess from a nearby state, as in a relaxation, finds its root in the first
+    bracket); otherwise the largest root in (0.01, 0.99).
     """
     jbar = np.asarray(jbar, dtype=float)
     logf = np.log(np.asarray(f, dtype=float))
@@ -202,9 +203,9 @@ def solve_M0(jbar, f, guess=None, order=24):
         return _magnetisation_map(jbar, logf, M, order) - M
 
     if guess is not None:
-        for half in (0.01, 0.05, 0.2):
+        for half, points in ((0.001, 3), (0.01, 9), (0.05, 9), (0.2, 9)):
             lo, hi = max(guess - half, 1e-3), min(guess + half, 0.999)
-            grid = np.linspace(lo, hi, 9)
+            grid = np.linspace(lo, hi, points)
             vals = np.array([g(M) for M in grid])
             idx = np.flatnonzero(np.sign(vals[:-1]) != np.sign(vals[1:]))
             if idx.size:
