@@ -5,6 +5,7 @@
     python benchmarks/bench_relaxation.py --study convergence --case hot
     python benchmarks/bench_relaxation.py --study newton     # the Newton matrix, old and new
     python benchmarks/bench_relaxation.py --study cost --case hot warm ch2  # the pipeline's runs
+    python benchmarks/bench_relaxation.py --study inversion --case hot  # kappa(Omega) by Newton
 
 Runs on one core (BLAS threads pinned to 1 before numpy is imported).  The default prints the
 wall time of one evolution from ch2* to thermalisation (max |f - f_eq| < thermal_tol max f_eq)
@@ -21,7 +22,8 @@ CPU time of the pipeline's evolutions (rule relaxation: config/config.yaml's set
 flux_times, the warm core to tau = 1) by the present code and by the solves it replaced
 (benchmarks/previous_relaxation.py), in the same run, with the largest differences of their
 results: tau_R, dM0/dtau (initial, early), M0 at the end, the current at the stored times and
-f at the end.
+f at the end; `--study inversion` the same, with only kappa(Omega) (bisection before Newton's
+iteration) and the tabulated state's M0 bracket swapped back.
 """
 
 from __future__ import annotations
@@ -35,8 +37,10 @@ import argparse  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
-from previous_relaxation import previous_path  # noqa: E402
+import previous_relaxation  # noqa: E402
+from previous_relaxation import previous_path, swapped  # noqa: E402
 
+from hmfdiff.kinetic import tabulated  # noqa: E402
 from hmfdiff.kinetic.grid import project_state  # noqa: E402
 from hmfdiff.kinetic.relaxation import (  # noqa: E402
     Kinetics,
@@ -44,6 +48,7 @@ from hmfdiff.kinetic.relaxation import (  # noqa: E402
     evolve,
     make_grid,
 )
+from hmfdiff.meanfield import orbits  # noqa: E402
 from hmfdiff.meanfield.equilibrium import make_state  # noqa: E402
 from hmfdiff.pipeline.layouts.kinetic_relaxation import relaxation_times  # noqa: E402
 
@@ -196,19 +201,46 @@ def cost(case, equation):
     return t_old, t_new
 
 
+def inversion_cost(case, equation):
+    """One pipeline evolution with the present kappa(Omega) (Newton's iteration) and tabulated
+    M0 bracket against the bisection and 9-point bracket before them (only those two swapped
+    back, `previous_relaxation`), in CPU seconds of this process, with the results' agreement."""
+    kw = dict(PIPELINE[case], flux_times=FLUX_TIMES)
+    t0 = time.process_time()
+    new, _ = run(case, equation, **kw)
+    t_new = time.process_time() - t0
+    with swapped(
+        (orbits, "kappa_from_frequency", previous_relaxation.kappa_from_frequency),
+        (tabulated, "solve_M0", previous_relaxation.tabulated_solve_M0),
+    ):
+        t0 = time.process_time()
+        old, _ = run(case, equation, **kw)
+        t_old = time.process_time() - t0
+    agree = agreement(new, old)
+    worst = max(v for k, v in agree.items() if k not in ("bitwise", "f_end_nodewise"))
+    print(
+        f"{case} {equation}: CPU with bisection {t_old:.1f} s, with Newton {t_new:.1f} s "
+        f"(x{t_old / t_new:.2f}); {new['n_steps']} steps ({old['n_steps']}); results "
+        + ("bitwise equal" if agree["bitwise"] else f"agree to {worst:.1e} relative")
+    )
+    return t_old, t_new
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument(
-        "--study", choices=["time", "nmax", "convergence", "newton", "cost"], default="time"
+        "--study",
+        choices=["time", "nmax", "convergence", "newton", "cost", "inversion"],
+        default="time",
     )
     ap.add_argument("--case", nargs="+", choices=sorted(CASES), default=["ch2"])
     ap.add_argument("--equations", nargs="+", choices=EQUATIONS, default=list(EQUATIONS))
     args = ap.parse_args()
-    if args.study == "cost":
+    if args.study in ("cost", "inversion"):
         total = np.zeros(2)
         for case in args.case:
             for eq in args.equations:
-                total += cost(case, eq)
+                total += (cost if args.study == "cost" else inversion_cost)(case, eq)
         old, new = total
         print(f"all: CPU previous {old:.1f} s, present {new:.1f} s (x{old / new:.2f})")
         return

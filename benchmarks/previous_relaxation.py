@@ -312,17 +312,8 @@ _PRESENT_SOLVE_M0 = T.solve_M0
 
 
 @contextlib.contextmanager
-def previous_path():
-    """`relaxation.evolve` with the solves above in place of the present ones."""
-    swaps = [
-        (R, "_doubling_solves", doubling_solves),
-        (R, "solve_grid_M0", solve_grid_M0),
-        (R, "remap", remap),
-        (D.DielectricTensor, "_branch_term", branch_term),
-        (orbits, "_bisect", bisect),
-        (orbits, "kappa_from_frequency", kappa_from_frequency),
-        (T, "solve_M0", tabulated_solve_M0),
-    ]
+def swapped(*swaps):
+    """(module or class, name, replacement) put in place for the block, then restored."""
     saved = [(where, k, getattr(where, k)) for where, k, _ in swaps]
     for where, k, v in swaps:
         setattr(where, k, v)
@@ -331,3 +322,16 @@ def previous_path():
     finally:
         for where, k, v in saved:
             setattr(where, k, v)
+
+
+def previous_path():
+    """`relaxation.evolve` with the solves above in place of the present ones."""
+    return swapped(
+        (R, "_doubling_solves", doubling_solves),
+        (R, "solve_grid_M0", solve_grid_M0),
+        (R, "remap", remap),
+        (D.DielectricTensor, "_branch_term", branch_term),
+        (orbits, "_bisect", bisect),
+        (orbits, "kappa_from_frequency", kappa_from_frequency),
+        (T, "solve_M0", tabulated_solve_M0),
+    )
