@@ -23,7 +23,7 @@ import os
 
 import numba
 import yaml
-from bench_md_sampling import CONFIG, PARTS, ROOT, one_realisation
+from bench_md_sampling import CONFIG, PARTS, ROOT, best_alternating
 
 from hmfdiff.dynamics.runs import md_runs
 from hmfdiff.meanfield.equilibrium import make_state
@@ -47,17 +47,7 @@ def time_lengths(dynamics, reps):
     earlier, present = lengths()
     runs = {"earlier": dataclasses.replace(base, **earlier), "present": base}
     assert {k: getattr(base, k) for k in present} == present
-    for run in runs.values():  # compile every kernel both use
-        tiny = dataclasses.replace(
-            run, n_particles=256, n_test=64, n_track=None, t_max=4.0 * run.max_lag, n_blocks=1
-        )
-        one_realisation(state, tiny)
-    best = {k: (float("inf"), None) for k in runs}
-    for rep in range(reps):
-        for name in runs if rep % 2 == 0 else reversed(list(runs)):
-            wall, parts = one_realisation(state, runs[name])
-            if wall < best[name][0]:
-                best[name] = (wall, parts)
+    best = best_alternating(state, runs, reps)
     out = {"case": CASE, "dynamics": dynamics, "n_particles": base.n_particles}
     for name, (wall, parts) in best.items():
         out[f"{name}_t_max"] = runs[name].t_max

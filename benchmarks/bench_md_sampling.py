@@ -73,6 +73,24 @@ def one_realisation(state, run, seed=0):
     return wall, {k: res.attrs[f"wall_{k}_s"] for k in PARTS}
 
 
+def best_alternating(state, runs, reps):
+    """{name: (wall, parts)}: the best of `reps` realisations of each run of `runs` ({name:
+    MDRun}), run alternately (the order reversed every other repetition), after a tiny run of
+    each has compiled every kernel it uses."""
+    for run in runs.values():
+        tiny = dataclasses.replace(
+            run, n_particles=256, n_test=64, n_track=None, t_max=4.0 * run.max_lag, n_blocks=1
+        )
+        one_realisation(state, tiny)
+    best = {k: (float("inf"), None) for k in runs}
+    for rep in range(reps):
+        for name in runs if rep % 2 == 0 else reversed(list(runs)):
+            wall, parts = one_realisation(state, runs[name])
+            if wall < best[name][0]:
+                best[name] = (wall, parts)
+    return best
+
+
 def time_settings(case, dynamics, t_max=None, reps=1):
     config = yaml.safe_load(open(CONFIG))
     base = md_runs(config)[(case, dynamics)]
@@ -84,17 +102,7 @@ def time_settings(case, dynamics, t_max=None, reps=1):
     for name, s in (("earlier", earlier), ("present", present)):
         track = None if dynamics == "bath" else min(int(s["n_track"]), base.n_particles)
         runs[name] = dataclasses.replace(base, n_track=track, sample_every=float(s["sample_every"]))
-    for run in runs.values():  # compile every kernel the two settings use
-        tiny = dataclasses.replace(
-            run, n_particles=256, n_test=64, n_track=None, t_max=4.0 * run.max_lag, n_blocks=1
-        )
-        one_realisation(state, tiny)
-    best = {k: (float("inf"), None) for k in runs}
-    for rep in range(reps):
-        for name in runs if rep % 2 == 0 else reversed(list(runs)):
-            wall, parts = one_realisation(state, runs[name])
-            if wall < best[name][0]:
-                best[name] = (wall, parts)
+    best = best_alternating(state, runs, reps)
     out = {"case": case, "dynamics": dynamics, "n_particles": base.n_particles, "t_max": base.t_max}
     for name, (wall, parts) in best.items():
         out[f"{name}_n_tracked"] = runs[name].n_tracked

@@ -179,19 +179,26 @@ def agreement(new, old):
     return out
 
 
-def cost(case, equation):
-    """One pipeline evolution by the present code and by the previous solves (same run), in
-    CPU seconds of this process (BLAS on one thread: what a job pays on a shared machine)."""
+def timed_pair(case, equation, baseline):
+    """One pipeline evolution by the present code and one inside the context `baseline` (same
+    run), in CPU seconds of this process (BLAS on one thread: what a job pays on a shared
+    machine): (new, old, t_new, t_old, agreement, worst relative difference)."""
     kw = dict(PIPELINE[case], flux_times=FLUX_TIMES)
     t0 = time.process_time()
     new, _ = run(case, equation, **kw)
     t_new = time.process_time() - t0
-    with previous_path():
+    with baseline:
         t0 = time.process_time()
         old, _ = run(case, equation, **kw)
         t_old = time.process_time() - t0
     agree = agreement(new, old)
     worst = max(v for k, v in agree.items() if k not in ("bitwise", "f_end_nodewise"))
+    return new, old, t_new, t_old, agree, worst
+
+
+def cost(case, equation):
+    """The present code against the solves it replaced (`previous_path`)."""
+    new, old, t_new, t_old, agree, worst = timed_pair(case, equation, previous_path())
     print(
         f"{case} {equation}: CPU previous {t_old:.1f} s, present {t_new:.1f} s "
         f"(x{t_old / t_new:.2f}); {new['n_steps']} steps ({old['n_steps']} before); results "
@@ -202,22 +209,13 @@ def cost(case, equation):
 
 
 def inversion_cost(case, equation):
-    """One pipeline evolution with the present kappa(Omega) (Newton's iteration) and tabulated
-    M0 bracket against the bisection and 9-point bracket before them (only those two swapped
-    back, `previous_relaxation`), in CPU seconds of this process, with the results' agreement."""
-    kw = dict(PIPELINE[case], flux_times=FLUX_TIMES)
-    t0 = time.process_time()
-    new, _ = run(case, equation, **kw)
-    t_new = time.process_time() - t0
-    with swapped(
+    """The present kappa(Omega) (Newton's iteration) and tabulated M0 bracket against the
+    bisection and 9-point bracket before them (only those two swapped back)."""
+    baseline = swapped(
         (orbits, "kappa_from_frequency", previous_relaxation.kappa_from_frequency),
         (tabulated, "solve_M0", previous_relaxation.tabulated_solve_M0),
-    ):
-        t0 = time.process_time()
-        old, _ = run(case, equation, **kw)
-        t_old = time.process_time() - t0
-    agree = agreement(new, old)
-    worst = max(v for k, v in agree.items() if k not in ("bitwise", "f_end_nodewise"))
+    )
+    new, old, t_new, t_old, agree, worst = timed_pair(case, equation, baseline)
     print(
         f"{case} {equation}: CPU with bisection {t_old:.1f} s, with Newton {t_new:.1f} s "
         f"(x{t_old / t_new:.2f}); {new['n_steps']} steps ({old['n_steps']}); results "
