@@ -15,7 +15,7 @@ regime is reached only where omega_b / gamma < 1.
 Three steps:
 
     python studies/mode_trapping.py theory                      # omega_b / gamma against N
-    python studies/mode_trapping.py run OUT CASE N FIRST LAST   # MD(full) realisations
+    python studies/mode_trapping.py run OUT CASE N FIRST LAST [T_MAX]  # MD(full) realisations
     python studies/mode_trapping.py analyse OUT [CASE ...]      # the mode in the MD
     python studies/mode_trapping.py lineshape OUT [CASE ...]    # shifted or reshaped?
 
@@ -23,7 +23,9 @@ Three steps:
 cases of config/experiments/hothalo_marginal.yaml), the least-damped eps_cc mode, the resonance
 and omega_b / gamma at N = 1e3 ... 1e7.  `run` draws MD(full) realisations of CASE at N with the
 md_scaling study's hot-halo run settings (t_max 1000, m_every 0.25, max_lag 500), seed s as
-that study's seed s.  `analyse` compares the MD's Welch N S_x of each (case, N) with the linear
+that study's seed s; with T_MAX, t_max = T_MAX and max_lag = T_MAX / 2, whose Welch segments
+(max_lag long) resolve a mode narrower than 2 pi / 500 (the hot halo's, gamma = 0.0074).
+`analyse` compares the MD's Welch N S_x of each (case, N) with the linear
 dressed theory smoothed by the same window (jackknife errors over realisations): (i) at the
 mode, one resolution width (2 pi / segment) either side of omega0; (ii) the power of the band
 omega0 - 0.15 ... omega0 + 0.06, which holds the mode's peak; (iii) the centroid of N S_x over
@@ -128,8 +130,9 @@ def theory():
         print(f"  omega_b = gamma at N = {cross:.3g}")
 
 
-def md_run(case, n):
-    """The md_scaling study's hot-halo MD(full) record at size n, for `case`."""
+def md_run(case, n, t_max=None):
+    """The md_scaling study's hot-halo MD(full) record at size n, for `case` (run to t_max
+    with lags to t_max / 2 if given)."""
     from hmfdiff.dynamics.runs import md_scaling_runs
 
     with open(CONFIG) as f:
@@ -138,17 +141,21 @@ def md_run(case, n):
         k[2]: r for k, r in md_scaling_runs(cfg).items() if k[:2] == ("corehalo_hothalo", "full")
     }
     rec = runs[int(n)] if int(n) in runs else runs[min(runs)]
-    return dataclasses.replace(rec, n_particles=int(n), case=case)
+    rec = dataclasses.replace(rec, n_particles=int(n), case=case)
+    if t_max is not None:
+        rec = dataclasses.replace(rec, t_max=float(t_max), max_lag=0.5 * float(t_max))
+    return rec
 
 
-def run(out, case, n, first, last):
+def run(out, case, n, first, last, t_max=None):
     from _realisations import draw_realisations
 
     from hmfdiff.meanfield.equilibrium import make_state
 
     folder = Path(out) / case / f"N{int(n)}"
     state = make_state(case_spec(case))
-    draw_realisations(folder, state, md_run(case, n), first, last, case, f"{case} N = {n} ")
+    rec = md_run(case, n, t_max)
+    draw_realisations(folder, state, rec, first, last, case, f"{case} N = {n} ")
 
 
 def _spectra(data, N, part, seg):
@@ -313,9 +320,9 @@ def main(argv):
     if argv[0] == "theory":
         theory()
     elif argv[0] == "run":
-        if len(argv) != 6:
-            sys.exit("usage: mode_trapping.py run OUT CASE N FIRST LAST")
-        run(argv[1], argv[2], float(argv[3]), argv[4], argv[5])
+        if len(argv) not in (6, 7):
+            sys.exit("usage: mode_trapping.py run OUT CASE N FIRST LAST [T_MAX]")
+        run(argv[1], argv[2], float(argv[3]), argv[4], argv[5], *map(float, argv[6:]))
     elif argv[0] == "analyse":
         analyse(argv[1], argv[2:] or CASES)
     else:
