@@ -108,3 +108,16 @@ def test_lineshape_fits_recover_a_shift_and_a_tilt():
     chi_s, _, _ = mt._fit_shift(tilted, err, _lorentz, om, grid)
     assert abs(b + 0.1) < 0.003 and abs(amp - 0.9) < 0.02
     assert chi_t < 2 * om.size < chi_s
+
+
+def test_longer_runs_have_segments_of_half_their_length(monkeypatch):
+    """`run ... T_MAX` runs the hot-halo record to T_MAX with lags (the Welch segments) to
+    T_MAX / 2; without it, the 1/N study's t_max 1000 and lags to 500."""
+    monkeypatch.chdir(ROOT)
+    mt = load_study("mode_trapping")
+    short = mt.md_run("corehalo_hothalo", 16000)
+    long = mt.md_run("corehalo_hothalo", 16000, 4000.0)
+    assert (short.t_max, short.max_lag) == (1000.0, 500.0)
+    assert (long.t_max, long.max_lag) == (4000.0, 2000.0)
+    assert long.n_particles == short.n_particles == 16000
+    assert long.lag_samples * long.sample_every == 2000.0

@@ -2481,6 +2481,86 @@ CLAIMS = [
         {"0.22": "100 * -(-2.2e-03)"},
     ),
     C(
+        F,
+        "mode_lineshape_hothalo_long.txt",
+        [
+            "run to t = 4000 with lags (hence Welch segments) to 2000",
+            "corehalo_hothalo: omega0 = 1.58624, gamma = 0.00742",
+        ],
+        "fresh realisations run to t = 4000, so that Welch segments of 2000 resolve",
+    ),
+    C(
+        F,
+        "mode_lineshape_hothalo_long.txt",
+        [
+            "N = 16000 (32 realisations, 95 frequencies): shift delta = -0.0022 +- 0.0018 "
+            "(A 0.870), chi^2 505.6; tilt b = -0.007 (A 0.873), chi^2 533.3",
+            "N = 64000 (24 realisations, 95 frequencies): shift delta = -0.0037 +- 0.0013 "
+            "(A 0.950), chi^2 185.4; tilt b = -0.001 (A 0.886), chi^2 340.1",
+            "N = 256000 (16 realisations, 95 frequencies): shift delta = -0.0027 +- 0.0009 "
+            "(A 0.946), chi^2 130.4; tilt b = +0.002 (A 0.912), chi^2 179.8",
+            "N = 500000 (16 realisations, 95 frequencies): shift delta = -0.0027 +- 0.0008 "
+            "(A 0.889), chi^2 182.5; tilt b = -0.002 (A 0.846), chi^2 248.7",
+        ],
+        "(chi^2 505.6 against 533.3, 185.4 against 340.1, 130.4 against 179.8, 182.5 against 248.7 "
+        "over 95 frequencies at N = 1.6e4, 6.4e4, 2.56e5, 5e5), with delta = -0.0022 +- 0.0018, "
+        "-0.0037 +- 0.0013, -0.0027 +- 0.0009, -0.0027 +- 0.0008",
+    ),
+    C(
+        F,
+        "mode_lineshape_hothalo_long.txt",
+        [
+            "shift delta = -0.0037 +- 0.0013",
+            "shift delta = -0.0027 +- 0.0009",
+            "corehalo_hothalo: omega0 = 1.58624, gamma = 0.00742",
+            "omega_b = 0.0083, omega_b / gamma = 1.12",
+            "omega_b = 0.0059, omega_b / gamma = 0.79",
+            "omega_b = 0.0050, omega_b / gamma = 0.668",
+        ],
+        "where omega_b / gamma = 1.12, 0.79, 0.668, that is -0.50, -0.36, -0.36 in units of gamma",
+        {"-0.50": "-0.0037 / 0.00742", "-0.36": "-0.0027 / 0.00742"},
+    ),
+    C(
+        F,
+        "mode_lineshape_hothalo_long.txt",
+        [
+            "shift delta = -0.0037 +- 0.0013",
+            "shift delta = -0.0027 +- 0.0009",
+            "omega_b = 0.0083, omega_b / gamma = 1.12",
+            "omega_b = 0.0059, omega_b / gamma = 0.79",
+            "omega_b = 0.0050, omega_b / gamma = 0.668",
+        ],
+        "-0.45, -0.46, -0.54 in units of omega_b (0.0083, 0.0059, 0.0050)",
+        {"-0.45": "-0.0037 / 0.0083", "-0.46": "-0.0027 / 0.0059", "-0.54": "-0.0027 / 0.0050"},
+    ),
+    C(
+        F,
+        "mode_lineshape_hothalo_long.txt",
+        [
+            "N = 1000 (48 realisations): at mode 0.092 +- 0.011",
+            "N = 4000 (48 realisations): at mode 0.207 +- 0.029",
+            "N = 16000 (32 realisations): at mode 0.437 +- 0.064; band 1.030 +- 0.038",
+            "N = 64000 (24 realisations): at mode 0.577 +- 0.119; band 1.093 +- 0.061",
+            "N = 256000 (16 realisations): at mode 0.650 +- 0.084; band 1.029 +- 0.056",
+            "N = 500000 (16 realisations): at mode 0.672 +- 0.105; band 1.051 +- 0.048",
+            "band: N S_x summed over omega0 - 0.15 ... omega0 + 0.06",
+        ],
+        "0.092 +- 0.011, 0.207 +- 0.029, 0.437 +- 0.064, 0.577 +- 0.119, 0.650 +- 0.084, "
+        "0.672 +- 0.105 of the linear power at N = 1e3 ... 5e5, while the band omega0 - 0.15 ... "
+        "omega0 + 0.06 holds 1.030 +- 0.038, 1.093 +- 0.061, 1.029 +- 0.056, 1.051 +- 0.048 of it "
+        "from N = 1.6e4 on",
+    ),
+    C(
+        F,
+        "mode_lineshape_hothalo_long.txt",
+        [
+            "N = 500000 (16 realisations): at mode 0.672 +- 0.105; band 1.051 +- 0.048",
+            "omega_b / gamma = 0.668",
+        ],
+        "but is still about 1.6 at N = 5e5 (omega_b / gamma = 0.668)",
+        {"1.6": "1.051 / 0.672"},
+    ),
+    C(
         P,
         "md_sampling_2026-11-29.txt",
         [
@@ -2688,6 +2768,14 @@ CONTEXT = [
     ("docs/performance.md", "reads lags 50-200 from origins 0-500, so it now runs to t = 700 with"),
     ("docs/performance.md", "lags to 200 instead of 1000 and 500"),
     ("docs/performance.md", "reaches tau ~ 1e-3 in fewer"),
+    ("docs/findings.md", "(about -0.5 omega_b in all three states)"),
+    ("docs/findings.md", "at omega_b / gamma = 0.585-0.599 (above)"),
+    ("docs/findings.md", "At the same N = 2.56e5 beta1 = 10 gives +0.0093 +- 0.0058"),
+    ("docs/findings.md", "falls as N^-1/4 with omega_b, not as 1/N"),
+    ("docs/findings.md", "Morales & O'Neil 1972"),
+    ("docs/findings.md", "Dodin & Fisch 2011"),
+    ("docs/findings.md", "2 pi / 2000 = 0.0031 against gamma = 0.00742"),
+    ("docs/findings.md", "At N = 6.4e4, 2.56e5, 5e5, where"),
     ("docs/validation.md", "n_seeds - 1 degrees"),
     ("docs/validation.md", "sqrt(2 D lag)"),
     ("docs/validation.md", "N^-1/2"),
