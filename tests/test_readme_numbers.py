@@ -2768,7 +2768,6 @@ CONTEXT = [
     ("docs/performance.md", "reads lags 50-200 from origins 0-500, so it now runs to t = 700 with"),
     ("docs/performance.md", "lags to 200 instead of 1000 and 500"),
     ("docs/performance.md", "reaches tau ~ 1e-3 in fewer"),
-    ("docs/findings.md", "(about -0.5 omega_b in all three states)"),
     ("docs/findings.md", "at omega_b / gamma = 0.585-0.599 (above)"),
     ("docs/findings.md", "At the same N = 2.56e5 beta1 = 10 gives +0.0093 +- 0.0058"),
     ("docs/findings.md", "falls as N^-1/4 with omega_b, not as 1/N"),
