@@ -18,6 +18,7 @@ Three steps:
     python studies/mode_trapping.py run OUT CASE N FIRST LAST [T_MAX]  # MD(full) realisations
     python studies/mode_trapping.py analyse OUT [CASE ...]      # the mode in the MD
     python studies/mode_trapping.py lineshape OUT [CASE ...]    # shifted or reshaped?
+    python studies/mode_trapping.py separatrix OUT [CASE ...]   # resonance inside the layer?
 
 `theory` prints, for the hot halo and the same state with a warmer core (beta1 = 20, 10; the
 cases of config/experiments/hothalo_marginal.yaml), the least-damped eps_cc mode, the resonance
@@ -44,7 +45,20 @@ frequency) with two models of two parameters each, the window-smoothed linear sp
   tilt:   A S_lin(omega) (1 + b (omega - omega0) / gamma)
 and prints delta (jackknife error), b, and each model's chi^2 beside that of A S_lin alone
 (one parameter).  Adjacent Welch frequencies are correlated by the window, so the chi^2 are
-compared between models, not against their degrees of freedom.
+compared between models, not against their degrees of freedom.  For the NARROW_BAND states
+(thermal u = 0.2475, 1 % below the critical energy: a mode at omega0 = 0.196 with gamma =
+0.0167, whose MD spectrum has a floor below omega ~ 0.13 that the theory lacks) both bands
+are omega0 -+ 4 gamma.
+
+`separatrix` asks whether the mode's resonance lies inside the separatrix's finite-N motion,
+where the resonant orbits change family and neither the linear theory nor the pendulum of
+omega_b holds: 1 - kappa_res against rms(|M| - M-bar) / (2 M-bar) (the measure of
+studies/separatrix_crossings.py) from the MD's own |M|; the rms of the mode itself (M_parallel
+band-passed to omega0 -+ 4 gamma) against the linear one; the excess kurtosis of that
+band-passed signal against Gaussian surrogates of the same record (a noise-driven linear mode
+is Gaussian; an amplitude-limited one has lighter tails, < 0; a bursting one heavier, > 0);
+the floor of N S_x over omega 0.05-0.1; and, for a thermal state, how much the linear
+power over the band moves if M0 is the MD's mean |M|.
 """
 
 from __future__ import annotations
@@ -62,6 +76,23 @@ MARGINAL = "config/experiments/hothalo_marginal.yaml"
 CASES = ("corehalo_hothalo", "corehalo_hothalo_b20", "corehalo_hothalo_b10")
 SIZES = (1e3, 4e3, 1.6e4, 6.4e4, 2.56e5, 5e5, 1e6, 4e6, 1e7)
 HARMONIC = 2  # the mode is even (eps_cc): the librating orbits' lowest even harmonic
+#: states whose bands are omega0 -+ 4 gamma only: below omega ~ 0.13 the MD(full) spectrum of
+#: thermal u = 0.2475 (1 % below the critical energy) carries a floor N S_x ~ 0.1-0.4 that
+#: the linear theory lacks (1e-5 ... 1e-2 there; `separatrix` below), which a wider band would
+#: count as the mode's power
+NARROW_BAND = ("thermal_u0.2475",)
+
+
+def band_offsets(case, gamma, kind):
+    """(below, above) omega0 of the band of `analyse` (kind 'power': omega0 - 0.15 ...
+    omega0 + 0.06, which holds the hot halo's peak) or of `lineshape` ('fit': -+ max(4 gamma,
+    0.15)); -+ 4 gamma for the NARROW_BAND states."""
+    if case in NARROW_BAND:
+        return 4.0 * gamma, 4.0 * gamma
+    if kind == "power":
+        return 0.15, 0.06
+    half = max(4.0 * gamma, 0.15)
+    return half, half
 
 
 def case_spec(case):
@@ -204,8 +235,9 @@ def analyse(out, cases):
     print(
         "# width of omega0, MD / linear; band: N S_x summed over omega0 - 0.15 ... omega0 + 0.06,"
     )
-    print("# MD / linear; shift: centroid of N S_x over the band, MD - linear (whole run; first")
-    print("# and second half of the run, segments of half the length)")
+    print("# MD / linear (omega0 -+ 4 gamma for NARROW_BAND states); shift: centroid of N S_x over")
+    print("# the band, MD - linear (whole run; first and second half of the run, segments of half")
+    print("# the length)")
     for case in cases:
         state, omega0, gamma, power, res = mode_parameters(case)
         dressed = _dressed_spectrum(state)
@@ -218,7 +250,8 @@ def analyse(out, cases):
                 (slice(n_t // 2, n_t), seg // 2),
             ):
                 om, S, dt = _spectra(data, N, part, length)
-                band = (om > omega0 - 0.15) & (om < omega0 + 0.06)
+                below, above = band_offsets(case, gamma, "power")
+                band = (om > omega0 - below) & (om < omega0 + above)
                 th = smoothed(dressed, om[band], length, dt)
 
                 def centroid(v, om=om[band]):
@@ -272,13 +305,16 @@ def lineshape(out, cases):
     from hmfdiff.analysis.relaxation_md import jackknife
 
     print("# The mode's line shape in MD(full) (studies/mode_trapping.py lineshape): over")
-    print("# omega0 -+ max(4 gamma, 0.15), the mean N S_x fitted by A S_lin(omega - delta) (shift)")
+    print(
+        "# omega0 -+ max(4 gamma, 0.15) (-+ 4 gamma for NARROW_BAND states), the mean N S_x fitted"
+    )
+    print("# by A S_lin(omega - delta) (shift)")
     print("# and by A S_lin(omega) (1 + b (omega - omega0)/gamma) (tilt); chi^2 of each and of")
     print("# A S_lin alone (amplitude); delta +- jackknife over realisations")
     for case in cases:
         state, omega0, gamma, _, _ = mode_parameters(case)
         dressed = _dressed_spectrum(state)
-        half = max(4.0 * gamma, 0.15)
+        half = band_offsets(case, gamma, "fit")[0]
         print(f"{case}: omega0 = {omega0:.5f}, gamma = {gamma:.5f}, band +-{half:.3f}")
         for files, data, N, n_t, seg in _ensembles(out, case):
             om, S, dt = _spectra(data, N, slice(0, n_t), seg)
@@ -314,8 +350,132 @@ def lineshape(out, cases):
             )
 
 
+def excess_kurtosis(x):
+    """<x^4> / <x^2>^2 - 3 of x about its mean (0 for a Gaussian; -1.5 for a sinusoid)."""
+    x = np.asarray(x, dtype=float) - np.mean(x)
+    return float(np.mean(x**4) / np.mean(x**2) ** 2 - 3.0)
+
+
+def band_passed(x, dt, lo, hi):
+    """x with its Fourier components outside lo <= omega <= hi (and its mean) removed."""
+    X = np.fft.rfft(np.asarray(x, dtype=float) - np.mean(x))
+    omega = 2.0 * np.pi * np.fft.rfftfreq(len(x), dt)
+    X[(omega < lo) | (omega > hi)] = 0.0
+    return np.fft.irfft(X, len(x))
+
+
+def phase_randomised(x, rng):
+    """A Gaussian surrogate of x: its Fourier amplitudes with random phases (the same
+    periodogram), mean removed."""
+    X = np.fft.rfft(np.asarray(x, dtype=float) - np.mean(x))
+    phase = np.exp(2j * np.pi * rng.random(X.size))
+    phase[0] = 1.0
+    if len(x) % 2 == 0:
+        phase[-1] = 1.0
+    return np.fft.irfft(X * phase, len(x))
+
+
+def band_kurtosis_excess(x, dt, lo, hi, rng, surrogates=20):
+    """(excess kurtosis of x band-passed to lo-hi, the mean of the same over `surrogates`
+    Gaussian surrogates of x): a record of finite length holds few independent samples of a
+    narrow band, so a Gaussian's sample kurtosis is biased below 0 (about -6 / samples); the
+    surrogates measure that bias, and the difference is the departure from Gaussian."""
+    data = excess_kurtosis(band_passed(x, dt, lo, hi))
+    null = [
+        excess_kurtosis(band_passed(phase_randomised(x, rng), dt, lo, hi))
+        for _ in range(surrogates)
+    ]
+    return data, float(np.mean(null))
+
+
+def separatrix(out, cases):
+    """Where the mode's resonance lies against the separatrix's finite-N motion."""
+    from hmfdiff.analysis.md_spectrum import _slow_frame, smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+    from hmfdiff.meanfield import orbits
+
+    print("# The mode's n = 2 resonance against the separatrix's motion in MD(full) (studies/")
+    print("# mode_trapping.py separatrix).  1 - kappa_res: the resonance's distance from the")
+    print("# separatrix; dkappa_gamma = gamma / (2 |dOmega/dkappa|): the resonant orbits' spread")
+    print("# in kappa over the mode's width; M-bar: time mean of |M| per realisation; the")
+    print(
+        "# separatrix moves in kappa by rms(|M| - M-bar) / (2 M-bar) (as in separatrix_crossings);"
+    )
+    print(
+        f"# floor: mean N S_x over omega {FLOOR[0]}-{FLOOR[1]}, MD and linear dressed "
+        "(+- jackknife);"
+    )
+    print("# mode rms: sqrt(N) rms of M_parallel band-passed to omega0 -+ 4 gamma, MD and linear;")
+    print("# kurtosis: excess kurtosis of that band-passed M_parallel minus that of 20 Gaussian")
+    print(
+        "# (phase-randomised) surrogates of each realisation, mean over realisations +- its error"
+    )
+    for case in cases:
+        state, omega0, gamma, _, res = mode_parameters(case)
+        M0 = float(state.M0)
+        spread = gamma / (HARMONIC * abs(float(orbits.dOmega_dkappa(res["kappa"], M0))))
+        dressed = _dressed_spectrum(state)
+        print(
+            f"{case}: M0 = {M0:.5f}, omega0 = {omega0:.5f}, gamma = {gamma:.5f}; 1 - kappa_res = "
+            f"{1.0 - res['kappa']:.3e}, dkappa_gamma = {spread:.3e}"
+        )
+        for files, data, N, n_t, seg in _ensembles(out, case):
+            mods = [np.hypot(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t]) for ds in data]
+            mbar = np.array([m.mean() for m in mods])
+            rms = np.sqrt(np.mean([np.mean((m - m.mean()) ** 2) for m in mods]))
+            motion = rms / (2.0 * mbar.mean())
+            om, S, dt = _spectra(data, N, slice(0, n_t), seg)
+            sel = (om >= FLOOR[0]) & (om <= FLOOR[1])
+            floor, floor_err = jackknife(S[:, sel].mean(axis=1), lambda v: v.mean())
+            th = float(smoothed(dressed, om[sel], seg, dt).mean())
+            lo, hi = omega0 - 4.0 * gamma, omega0 + 4.0 * gamma
+            rng = np.random.default_rng(5)
+            mode_rms, kurt = [], []
+            for ds in data:
+                par, _ = _slow_frame(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t], seg)
+                mode_rms.append(np.mean(band_passed(par, dt, lo, hi) ** 2))
+                k, k0 = band_kurtosis_excess(par, dt, lo, hi, rng)
+                kurt.append(k - k0)
+            kurt = np.array(kurt)
+            w = np.linspace(lo, hi, 2001)
+            lin_rms = np.sqrt(2.0 * np.trapezoid(dressed(w), w) / (2.0 * np.pi))
+            print(
+                f"  N = {N:.0f} ({len(files)} realisations): M-bar / M0 = {mbar.mean() / M0:.4f} "
+                f"+- {mbar.std(ddof=1) / np.sqrt(mbar.size) / M0:.4f}; sqrt(N) rms(|M| - M-bar) = "
+                f"{np.sqrt(N) * rms:.4f}; separatrix motion in kappa {motion:.3e} = "
+                f"{motion / (1.0 - res['kappa']):.3g} (1 - kappa_res) = {motion / spread:.3g} "
+                f"dkappa_gamma; floor MD {floor:.4f} +- {floor_err:.4f}, linear {th:.3g}; mode rms "
+                f"MD {np.sqrt(N * np.mean(mode_rms)):.4f}, linear {lin_rms:.4f}; kurtosis "
+                f"{kurt.mean():+.4f} +- {kurt.std(ddof=1) / np.sqrt(kurt.size):.4f}"
+                + _offset_power(state, omega0, gamma, mbar.mean() / M0),
+                flush=True,
+            )
+
+
+def _offset_power(state, omega0, gamma, scale):
+    """For a thermal state: the linear dressed power over omega0 -+ 4 gamma of the thermal state
+    of magnetisation scale M0, over the state's own (can the MD's mean |M| explain a power
+    deficit?); '' otherwise."""
+    if getattr(state, "kind", "") != "thermal":
+        return ""
+    from hmfdiff.kinetic.dielectric import DielectricTensor
+    from hmfdiff.kinetic.spectrum import dressed_spectrum
+    from hmfdiff.meanfield.equilibrium import ThermalState
+
+    w = np.linspace(omega0 - 4.0 * gamma, omega0 + 4.0 * gamma, 600)
+    power = []
+    for m in (state.M0, scale * state.M0):
+        st = ThermalState(M0=float(m))
+        power.append(np.trapezoid(dressed_spectrum(st, w, DielectricTensor(st)), w))
+    return f"; linear power over omega0 -+ 4 gamma at M0 x M-bar / M0: {power[1] / power[0]:.4f}"
+
+
+#: the band below the u = 0.2475 mode where its MD spectrum has a floor (NARROW_BAND)
+FLOOR = (0.05, 0.1)
+
+
 def main(argv):
-    if not argv or argv[0] not in ("theory", "run", "analyse", "lineshape"):
+    if not argv or argv[0] not in ("theory", "run", "analyse", "lineshape", "separatrix"):
         sys.exit(__doc__)
     if argv[0] == "theory":
         theory()
@@ -325,8 +485,10 @@ def main(argv):
         run(argv[1], argv[2], float(argv[3]), argv[4], argv[5], *map(float, argv[6:]))
     elif argv[0] == "analyse":
         analyse(argv[1], argv[2:] or CASES)
-    else:
+    elif argv[0] == "lineshape":
         lineshape(argv[1], argv[2:] or CASES)
+    else:
+        separatrix(argv[1], argv[2:] or CASES)
 
 
 if __name__ == "__main__":

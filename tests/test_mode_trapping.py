@@ -121,3 +121,79 @@ def test_longer_runs_have_segments_of_half_their_length(monkeypatch):
     assert (long.t_max, long.max_lag) == (4000.0, 2000.0)
     assert long.n_particles == short.n_particles == 16000
     assert long.lag_samples * long.sample_every == 2000.0
+
+
+def test_narrow_bands_only_for_the_near_critical_state():
+    """The hot halo keeps its bands (omega0 - 0.15 ... + 0.06; -+ max(4 gamma, 0.15)); thermal
+    u = 0.2475, whose MD spectrum has a floor below omega ~ 0.13, gets omega0 -+ 4 gamma."""
+    mt = load_study("mode_trapping")
+    assert mt.band_offsets("corehalo_hothalo", 0.0074, "power") == (0.15, 0.06)
+    assert mt.band_offsets("corehalo_hothalo", 0.0074, "fit") == (0.15, 0.15)
+    assert mt.band_offsets("corehalo_hothalo_b10", 0.0756, "fit") == (4 * 0.0756, 4 * 0.0756)
+    lo, hi = mt.band_offsets("thermal_u0.2475", 0.01672, "power")
+    assert lo == hi == 4 * 0.01672 and 0.196 - lo > 0.12
+
+
+def _narrow_gaussian(rng, n, dt, omega0, gamma):
+    """A noise-driven damped oscillator's record (Gaussian): x'' + 2 gamma x' + omega0^2 x = noise,
+    by its exact spectral synthesis (independent complex Gaussian amplitudes)."""
+    omega = 2 * np.pi * np.fft.rfftfreq(n, dt)
+    amp = 1.0 / np.sqrt((omega0**2 - omega**2) ** 2 + (2 * gamma * omega) ** 2)
+    X = amp * (rng.standard_normal(omega.size) + 1j * rng.standard_normal(omega.size))
+    X[0] = 0
+    return np.fft.irfft(X, n)
+
+
+def test_band_kurtosis_is_zero_for_a_gaussian_mode_and_negative_for_a_saturated_one():
+    """A linear noise-driven mode (Gaussian) gives a kurtosis excess over its surrogates of 0
+    within its error, although its own band-passed kurtosis is biased below 0 by the record's
+    few independent samples; the same mode with its amplitude clipped (saturated: the
+    envelope held below 1.2 rms) gives a clearly negative excess."""
+    mt = load_study("mode_trapping")
+    rng = np.random.default_rng(11)
+    dt, n, omega0, gamma = 0.25, 4000, 0.196, 0.0167
+    lo, hi = omega0 - 4 * gamma, omega0 + 4 * gamma
+    raw, diff, clipped = [], [], []
+    for _ in range(40):
+        x = _narrow_gaussian(rng, n, dt, omega0, gamma)
+        k, k0 = mt.band_kurtosis_excess(x, dt, lo, hi, rng)
+        raw.append(k)
+        diff.append(k - k0)
+        # the envelope of the band-passed mode, limited: analytic signal scaled where large
+        y = mt.band_passed(x, dt, lo, hi)
+        Y = np.fft.fft(y)
+        Y[n // 2 + 1 :] = 0
+        Y[1 : n // 2] *= 2
+        z = np.fft.ifft(Y)
+        env = np.abs(z)
+        cap = 1.2 * np.sqrt(np.mean(y**2))
+        y_sat = np.real(z * np.minimum(1.0, cap / np.maximum(env, 1e-300)))
+        k, k0 = mt.band_kurtosis_excess(y_sat, dt, lo, hi, rng)
+        clipped.append(k - k0)
+    raw, diff, clipped = map(np.array, (raw, diff, clipped))
+    err = diff.std(ddof=1) / np.sqrt(diff.size)
+    assert raw.mean() < -0.1  # the bias the surrogates remove
+    assert abs(diff.mean()) < 3 * err, (diff.mean(), err)
+    assert clipped.mean() < -0.3 and clipped.mean() < diff.mean() - 5 * err
+
+
+def test_separatrix_reference_motion_is_rms_over_twice_the_mean_modulus():
+    """Each line of the reference file's `separatrix` output: the separatrix motion in kappa
+    is rms(|M| - M-bar) / (2 M-bar) of the quoted sqrt(N) rms and M-bar / M0, and its ratio to
+    1 - kappa_res is the quoted one (a lost factor or a stale line fails)."""
+    text = (ROOT / "docs" / "reference" / "mode_separatrix_u0.2475.txt").read_text()
+    head = re.compile(r"^(\S+): M0 = ([\d.]+), .*1 - kappa_res = ([\d.e+-]+),")
+    line = re.compile(
+        r"N = (\d+) .*M-bar / M0 = ([\d.]+) .*sqrt\(N\) rms\(\|M\| - M-bar\) = ([\d.]+); "
+        r"separatrix motion in kappa ([\d.e+-]+) = ([\d.e+-]+) \(1 - kappa_res\)"
+    )
+    seen = 0
+    for row in text.splitlines():
+        if m := head.match(row):
+            M0, gap = float(m[2]), float(m[3])
+        elif m := line.search(row):
+            N, ratio, srms, motion, over = (float(v) for v in m.groups())
+            assert abs(srms / np.sqrt(N) / (2 * ratio * M0) / motion - 1) < 2e-3, row
+            assert abs(motion / gap / over - 1) < 5e-3, row
+            seen += 1
+    assert seen >= 8
