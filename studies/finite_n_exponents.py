@@ -15,7 +15,10 @@ Reads only reference files under docs/reference (no simulation; seconds):
    with its own exponents by studies/spectrum_scaling.py: spectrum_scaling_hothalo.txt);
 3. at u = 0, the deficit of the measured N D of the bin kappa0 = 1.039 below N D computed from
    the MD's own measured spectrum, 1 - ratio (spectrum_diffusion_u0.0_full.txt; both sets of
-   seeds at N = 5e5 as separate points).
+   seeds at N = 5e5 as separate points);
+4. at u = 0.2475 (1 % below the critical energy), the deficit of the power of the least-damped
+   even mode in MD(full) below the linear dressed theory's over omega0 -+ 4 gamma, 1 - band
+   (mode_separatrix_u0.2475.txt, N = 3.1e4 ... 4e6).
 
 Each excess is fitted as A (N/n_ref)^-a by weighted least squares on the excess itself
 (`hmfdiff.analysis.scaling.excess_power_law`), with the chi^2 of a = 1/5, 1/2 and 1 (amplitude
@@ -83,6 +86,26 @@ def item_response():
     return N, 1 - r, e, "1 - N D_MD / N D(MD's spectrum), u = 0, bin kappa0 = 1.039"
 
 
+#: `analyse` lines of studies/mode_trapping.py in mode_separatrix_u0.2475.txt
+MODE_POWER = re.compile(
+    r"N = (\d+) \((\d+) realisations\): at mode [^;]+; band ([0-9.]+) \+- ([0-9.]+);"
+)
+
+
+def item_mode_power():
+    text = (REF / "mode_separatrix_u0.2475.txt").read_text()
+    rows = sorted((float(n), float(b), float(e)) for n, _, b, e in MODE_POWER.findall(text))
+    if len(rows) < 3:
+        raise ValueError(f"{len(rows)} mode-power lines in mode_separatrix_u0.2475.txt")
+    N, band, e = np.array(rows).T
+    return (
+        N,
+        1 - band,
+        e,
+        "1 - mode power MD / linear over omega0 -+ 4 gamma, u = 0.2475 (MD(full))",
+    )
+
+
 def report(N, y, err, label, n_ref, last=None):
     """Print the points and the fit; `last`: also fit the largest `last` N alone."""
     r = excess_power_law(N, y, err, exponents=EXPONENTS, n_ref=n_ref)
@@ -119,6 +142,7 @@ def main(argv):
         "response apart, are in spectrum_scaling_hothalo.txt)"
     )
     report(*item_response(), n_ref=1e6)
+    report(*item_mode_power(), n_ref=1e6, last=5)
 
 
 if __name__ == "__main__":
