@@ -18,7 +18,10 @@ Reads only reference files under docs/reference (no simulation; seconds):
    seeds at N = 5e5 as separate points);
 4. at u = 0.2475 (1 % below the critical energy), the deficit of the power of the least-damped
    even mode in MD(full) below the linear dressed theory's over omega0 -+ 4 gamma, 1 - band
-   (mode_separatrix_u0.2475.txt, N = 3.1e4 ... 4e6).
+   (mode_separatrix_u0.2475.txt, N = 3.1e4 ... 4e6);
+5. there, the floor of the MD's N S of |M| over omega = 0.05-0.1, where the linear theory has
+   N S_x ~ 6e-4: not an excess over a ratio but the floor itself, which a departure of order
+   1/N^2 in S would give as N^-1, a population of width N^-1/2 as N^-1/2.
 
 Each excess is fitted as A (N/n_ref)^-a by weighted least squares on the excess itself
 (`hmfdiff.analysis.scaling.excess_power_law`), with the chi^2 of a = 1/5, 1/2 and 1 (amplitude
@@ -106,6 +109,26 @@ def item_mode_power():
     )
 
 
+FLOOR_MOD = re.compile(
+    r"N = (\d+) \((\d+) realisations\): M-bar .*?, \|M\| ([0-9.]+) \+- ([0-9.]+);"
+)
+
+
+def item_floor():
+    text = (REF / "mode_separatrix_u0.2475.txt").read_text()
+    text = text.split("## Controls")[0]  # the u = 0.2475 lines only
+    rows = sorted((float(n), float(f), float(e)) for n, _, f, e in FLOOR_MOD.findall(text))
+    if len(rows) < 3:
+        raise ValueError(f"{len(rows)} floor lines in mode_separatrix_u0.2475.txt")
+    N, floor, e = np.array(rows).T
+    return (
+        N,
+        floor,
+        e,
+        "N S of |M| over omega 0.05-0.1, u = 0.2475 (MD(full); linear N S_x 0.000585)",
+    )
+
+
 def report(N, y, err, label, n_ref, last=None):
     """Print the points and the fit; `last`: also fit the largest `last` N alone."""
     r = excess_power_law(N, y, err, exponents=EXPONENTS, n_ref=n_ref)
@@ -143,6 +166,7 @@ def main(argv):
     )
     report(*item_response(), n_ref=1e6)
     report(*item_mode_power(), n_ref=1e6, last=5)
+    report(*item_floor(), n_ref=1e6)
 
 
 if __name__ == "__main__":

@@ -390,6 +390,7 @@ def band_kurtosis_excess(x, dt, lo, hi, rng, surrogates=20):
 
 def separatrix(out, cases):
     """Where the mode's resonance lies against the separatrix's finite-N motion."""
+    from hmfdiff.analysis.fluctuations import welch_spectrum
     from hmfdiff.analysis.md_spectrum import _slow_frame, smoothed
     from hmfdiff.analysis.relaxation_md import jackknife
     from hmfdiff.meanfield import orbits
@@ -403,8 +404,9 @@ def separatrix(out, cases):
     )
     print(
         f"# floor: mean N S_x over omega {FLOOR[0]}-{FLOOR[1]}, MD and linear dressed "
-        "(+- jackknife);"
+        "(+- jackknife), and the MD's"
     )
+    print("# mean N S of |M| there (the same in any frame)")
     print("# mode rms: sqrt(N) rms of M_parallel band-passed to omega0 -+ 4 gamma, MD and linear;")
     print("# kurtosis: excess kurtosis of that band-passed M_parallel minus that of 20 Gaussian")
     print(
@@ -428,6 +430,9 @@ def separatrix(out, cases):
             sel = (om >= FLOOR[0]) & (om <= FLOOR[1])
             floor, floor_err = jackknife(S[:, sel].mean(axis=1), lambda v: v.mean())
             th = float(smoothed(dressed, om[sel], seg, dt).mean())
+            dt_m = float(data[0].attrs["m_every"])
+            s_mod = [N * welch_spectrum(m[None, :], dt_m, seg)[1][sel] for m in mods]
+            floor_mod, floor_mod_err = jackknife(np.mean(s_mod, axis=1), lambda v: v.mean())
             lo, hi = omega0 - 4.0 * gamma, omega0 + 4.0 * gamma
             rng = np.random.default_rng(5)
             mode_rms, kurt = [], []
@@ -444,7 +449,8 @@ def separatrix(out, cases):
                 f"+- {mbar.std(ddof=1) / np.sqrt(mbar.size) / M0:.4f}; sqrt(N) rms(|M| - M-bar) = "
                 f"{np.sqrt(N) * rms:.4f}; separatrix motion in kappa {motion:.3e} = "
                 f"{motion / (1.0 - res['kappa']):.3g} (1 - kappa_res) = {motion / spread:.3g} "
-                f"dkappa_gamma; floor MD {floor:.4f} +- {floor_err:.4f}, linear {th:.3g}; mode rms "
+                f"dkappa_gamma; floor MD {floor:.4f} +- {floor_err:.4f}, linear {th:.3g}, |M| "
+                f"{floor_mod:.4f} +- {floor_mod_err:.4f}; mode rms "
                 f"MD {np.sqrt(N * np.mean(mode_rms)):.4f}, linear {lin_rms:.4f}; kurtosis "
                 f"{kurt.mean():+.4f} +- {kurt.std(ddof=1) / np.sqrt(kurt.size):.4f}"
                 + _offset_power(state, omega0, gamma, mbar.mean() / M0),
