@@ -522,7 +522,7 @@ CLAIMS = [
         F,
         MSEP,
         "kurtosis -0.0002 +- 0.1140",
-        "the power is full at 5e5), -0.0002 +- 0.1140 at 4e6.",
+        "at 5e5 the power is full), -0.0002 +- 0.1140 at 4e6.",
     ),
     C(
         F,
