@@ -65,6 +65,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import re
 import sys
 from pathlib import Path
 
@@ -79,8 +80,9 @@ HARMONIC = 2  # the mode is even (eps_cc): the librating orbits' lowest even har
 #: states whose bands are omega0 -+ 4 gamma only: below omega ~ 0.13 the MD(full) spectrum of
 #: thermal u = 0.2475 (1 % below the critical energy) carries a floor N S_x ~ 0.1-0.4 that
 #: the linear theory lacks (1e-5 ... 1e-2 there; `separatrix` below), which a wider band would
-#: count as the mode's power
-NARROW_BAND = ("thermal_u0.2475",)
+#: count as the mode's power; thermal u = 0.23, its control (further from the critical energy),
+#: alike, so that the two compare over the same bands
+NARROW_BAND = ("thermal_u0.2475", "thermal_u0.23")
 
 
 def band_offsets(case, gamma, kind):
@@ -96,13 +98,16 @@ def band_offsets(case, gamma, kind):
 
 
 def case_spec(case):
-    """The case's state spec, from config.yaml or the hothalo_marginal experiment."""
+    """The case's state spec, from config.yaml or the hothalo_marginal experiment; a name
+    thermal_u<U> in neither is the thermal state of energy U."""
     for path in (CONFIG, MARGINAL):
         with open(path) as f:
             cases = yaml.safe_load(f).get("cases") or {}
         if case in cases:
             return cases[case]
-    sys.exit(f"error: case {case!r} in neither {CONFIG} nor {MARGINAL}")
+    if m := re.fullmatch(r"thermal_u(-?\d+(?:\.\d+)?)", case):
+        return {"kind": "thermal", "u": float(m[1])}
+    sys.exit(f"error: case {case!r} in neither {CONFIG} nor {MARGINAL}, nor thermal_u<U>")
 
 
 def mode_parameters(case):
@@ -418,8 +423,9 @@ def separatrix(out, cases):
         spread = gamma / (HARMONIC * abs(float(orbits.dOmega_dkappa(res["kappa"], M0))))
         dressed = _dressed_spectrum(state)
         print(
-            f"{case}: M0 = {M0:.5f}, omega0 = {omega0:.5f}, gamma = {gamma:.5f}; 1 - kappa_res = "
-            f"{1.0 - res['kappa']:.3e}, dkappa_gamma = {spread:.3e}"
+            f"{case}: M0 = {M0:.5f}, omega0 = {omega0:.5f}, gamma = {gamma:.5f}, peak "
+            f"|1/eps_cc|^2 = {res['peak']:.4g}; 1 - kappa_res = {1.0 - res['kappa']:.3e}, "
+            f"dkappa_gamma = {spread:.3e}"
         )
         for files, data, N, n_t, seg in _ensembles(out, case):
             mods = [np.hypot(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t]) for ds in data]

@@ -6,6 +6,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 from _studies import load_study
 from scipy.integrate import solve_ivp
 
@@ -181,7 +182,10 @@ def test_separatrix_reference_motion_is_rms_over_twice_the_mean_modulus():
     """Each line of the reference file's `separatrix` output: the separatrix motion in kappa
     is rms(|M| - M-bar) / (2 M-bar) of the quoted sqrt(N) rms and M-bar / M0, and its ratio to
     1 - kappa_res is the quoted one (a lost factor or a stale line fails)."""
-    text = (ROOT / "docs" / "reference" / "mode_separatrix_u0.2475.txt").read_text()
+    text = "\n".join(
+        (ROOT / "docs" / "reference" / name).read_text()
+        for name in ("mode_separatrix_u0.2475.txt", "mode_separatrix_u0.23.txt")
+    )
     head = re.compile(r"^(\S+): M0 = ([\d.]+), .*1 - kappa_res = ([\d.e+-]+),")
     line = re.compile(
         r"N = (\d+) .*M-bar / M0 = ([\d.]+) .*sqrt\(N\) rms\(\|M\| - M-bar\) = ([\d.]+); "
@@ -196,4 +200,16 @@ def test_separatrix_reference_motion_is_rms_over_twice_the_mean_modulus():
             assert abs(srms / np.sqrt(N) / (2 * ratio * M0) / motion - 1) < 2e-3, row
             assert abs(motion / gap / over - 1) < 5e-3, row
             seen += 1
-    assert seen >= 8
+    assert seen >= 11
+
+
+def test_case_spec_reads_the_configs_then_thermal_names(monkeypatch):
+    """A case of config.yaml comes from it; thermal_u<U> in no config is the thermal state of
+    energy U; any other name is refused in one line."""
+    monkeypatch.chdir(ROOT)
+    mt = load_study("mode_trapping")
+    assert mt.case_spec("thermal_u0.2475") == {"kind": "thermal", "u": 0.2475}
+    assert mt.case_spec("thermal_u0.23") == {"kind": "thermal", "u": 0.23}
+    assert mt.case_spec("corehalo_hothalo_b10")["beta1"] == 10.0
+    with pytest.raises(SystemExit, match="nor thermal_u<U>"):
+        mt.case_spec("thermal_hot")
