@@ -47,8 +47,8 @@ and prints delta (jackknife error), b, and each model's chi^2 beside that of A S
 (one parameter).  Adjacent Welch frequencies are correlated by the window, so the chi^2 are
 compared between models, not against their degrees of freedom.  For the NARROW_BAND states
 (thermal u = 0.2475, 1 % below the critical energy: a mode at omega0 = 0.196 with gamma =
-0.0167, whose MD spectrum has a floor below omega ~ 0.13 that the theory lacks) both bands
-are omega0 -+ 4 gamma.
+0.0167, whose MD spectrum has a floor below omega ~ 0.13 that the theory lacks; and u = 0.23,
+its control) both bands are omega0 -+ 4 gamma.
 
 `separatrix` asks whether the mode's resonance lies inside the separatrix's finite-N motion,
 where the resonant orbits change family and neither the linear theory nor the pendulum of
@@ -57,8 +57,8 @@ studies/separatrix_crossings.py) from the MD's own |M|; the rms of the mode itse
 band-passed to omega0 -+ 4 gamma) against the linear one; the excess kurtosis of that
 band-passed signal against Gaussian surrogates of the same record (a noise-driven linear mode
 is Gaussian; an amplitude-limited one has lighter tails, < 0; a bursting one heavier, > 0);
-the floor of N S_x over omega 0.05-0.1; and, for a thermal state, how much the linear
-power over the band moves if M0 is the MD's mean |M|.
+the floor of N S_x (and of N S of |M|, frame-free) over omega 0.05-0.1; and, for a thermal
+state, how much the linear power over the band moves if M0 is the MD's mean |M|.
 """
 
 from __future__ import annotations
@@ -83,6 +83,8 @@ HARMONIC = 2  # the mode is even (eps_cc): the librating orbits' lowest even har
 #: count as the mode's power; thermal u = 0.23, its control (further from the critical energy),
 #: alike, so that the two compare over the same bands
 NARROW_BAND = ("thermal_u0.2475", "thermal_u0.23")
+#: the band below the u = 0.2475 mode where its MD spectrum has that floor (`separatrix`)
+FLOOR = (0.05, 0.1)
 
 
 def band_offsets(case, gamma, kind):
@@ -436,8 +438,7 @@ def separatrix(out, cases):
             sel = (om >= FLOOR[0]) & (om <= FLOOR[1])
             floor, floor_err = jackknife(S[:, sel].mean(axis=1), lambda v: v.mean())
             th = float(smoothed(dressed, om[sel], seg, dt).mean())
-            dt_m = float(data[0].attrs["m_every"])
-            s_mod = [N * welch_spectrum(m[None, :], dt_m, seg)[1][sel] for m in mods]
+            s_mod = [N * welch_spectrum(m[None, :], dt, seg)[1][sel] for m in mods]
             floor_mod, floor_mod_err = jackknife(np.mean(s_mod, axis=1), lambda v: v.mean())
             lo, hi = omega0 - 4.0 * gamma, omega0 + 4.0 * gamma
             rng = np.random.default_rng(5)
@@ -480,10 +481,6 @@ def _offset_power(state, omega0, gamma, scale):
         st = ThermalState(M0=float(m))
         power.append(np.trapezoid(dressed_spectrum(st, w, DielectricTensor(st)), w))
     return f"; linear power over omega0 -+ 4 gamma at M0 x M-bar / M0: {power[1] / power[0]:.4f}"
-
-
-#: the band below the u = 0.2475 mode where its MD spectrum has a floor (NARROW_BAND)
-FLOOR = (0.05, 0.1)
 
 
 def main(argv):

@@ -124,15 +124,17 @@ def test_longer_runs_have_segments_of_half_their_length(monkeypatch):
     assert long.lag_samples * long.sample_every == 2000.0
 
 
-def test_narrow_bands_only_for_the_near_critical_state():
+def test_narrow_bands_only_for_the_near_critical_state_and_its_control():
     """The hot halo keeps its bands (omega0 - 0.15 ... + 0.06; -+ max(4 gamma, 0.15)); thermal
-    u = 0.2475, whose MD spectrum has a floor below omega ~ 0.13, gets omega0 -+ 4 gamma."""
+    u = 0.2475, whose MD spectrum has a floor below omega ~ 0.13, and its control u = 0.23 get
+    omega0 -+ 4 gamma."""
     mt = load_study("mode_trapping")
     assert mt.band_offsets("corehalo_hothalo", 0.0074, "power") == (0.15, 0.06)
     assert mt.band_offsets("corehalo_hothalo", 0.0074, "fit") == (0.15, 0.15)
     assert mt.band_offsets("corehalo_hothalo_b10", 0.0756, "fit") == (4 * 0.0756, 4 * 0.0756)
     lo, hi = mt.band_offsets("thermal_u0.2475", 0.01672, "power")
     assert lo == hi == 4 * 0.01672 and 0.196 - lo > 0.12
+    assert mt.band_offsets("thermal_u0.23", 0.04573, "power") == (4 * 0.04573, 4 * 0.04573)
 
 
 def _narrow_gaussian(rng, n, dt, omega0, gamma):
