@@ -19,6 +19,7 @@ Three steps:
     python studies/mode_trapping.py analyse OUT [CASE ...]      # the mode in the MD
     python studies/mode_trapping.py lineshape OUT [CASE ...]    # shifted or reshaped?
     python studies/mode_trapping.py separatrix OUT [CASE ...]   # resonance inside the layer?
+    python studies/mode_trapping.py width OUT [CASE ...]        # weaker source or wider line?
 
 `theory` prints, for the hot halo and the same state with a warmer core (beta1 = 20, 10; the
 cases of config/experiments/hothalo_marginal.yaml), the least-damped eps_cc mode, the resonance
@@ -59,6 +60,23 @@ band-passed signal against Gaussian surrogates of the same record (a noise-drive
 is Gaussian; an amplitude-limited one has lighter tails, < 0; a bursting one heavier, > 0);
 the floor of N S_x (and of N S of |M|, frame-free) over omega 0.05-0.1; and, for a thermal
 state, how much the linear power over the band moves if M0 is the MD's mean |M|.
+
+`width` asks whether a mode that carries less than the linear power is damped more strongly
+in the N-body or driven by a weaker source.  Near the mode eps_cc ~ eps'(omega0) (omega -
+omega0 + i gamma), so the line is S_bare / |eps'|^2 / ((omega - omega0)^2 + gamma^2) and its
+power ~ S_bare / gamma: a deficit by a factor r is either a source r times the linear one at the
+linear width (a = r, g = 1) or the linear source with the damping 1/r times the linear one (a =
+1, g = 1/r).  It fits the mean N S_x over omega0 - gamma ... omega0 + 4 gamma (WIDTH_FIT: the
+core and the upper wing; the lower wing of the u = 0.2475 line meets the MD's floor) with the
+window-smoothed
+  a S_lin(omega) ((omega - omega0)^2 + gamma^2) / ((omega - omega0)^2 + (g gamma)^2),
+the linear spectrum with its pole's width scaled by g and its height by a, and prints a and g
+(+- jackknife over realisations), the chi^2 of the two one-parameter hypotheses (g = 1, a
+free: weaker source; a = 1, g free: stronger damping) against the two-parameter fit, the
+power ratio the fit implies over its band, and MD / linear over the SUB_BANDS (the lower wing,
+the core, the upper wing, the far upper wing: a stronger damping lowers the core and leaves
+the wings; a weaker source lowers all alike).  Run it on realisations run to T_MAX = 2000 (Welch
+segments of 1000: a resolution of 2 pi / 1000 = 0.38 gamma for u = 0.2475).
 """
 
 from __future__ import annotations
@@ -85,6 +103,12 @@ HARMONIC = 2  # the mode is even (eps_cc): the librating orbits' lowest even har
 NARROW_BAND = ("thermal_u0.2475", "thermal_u0.23")
 #: the band below the u = 0.2475 mode where its MD spectrum has that floor (`separatrix`)
 FLOOR = (0.05, 0.1)
+#: `width`: the fit's band, (omega - omega0) / gamma: the core and the upper wing; below
+#: omega0 - gamma the u = 0.2475 line's lower wing meets the floor (at N = 250000 it doubles
+#: the MD's N S_x at omega0 - 4 gamma)
+WIDTH_FIT = (-1.0, 4.0)
+#: `width`: the sub-bands, (omega - omega0) / gamma, over which MD / linear is printed
+SUB_BANDS = ((-4.0, -1.0), (-1.0, 1.0), (1.0, 4.0), (4.0, 12.0))
 
 
 def band_offsets(case, gamma, kind):
@@ -483,8 +507,174 @@ def _offset_power(state, omega0, gamma, scale):
     return f"; linear power over omega0 -+ 4 gamma at M0 x M-bar / M0: {power[1] / power[0]:.4f}"
 
 
+def pole_rewidth_factor(omega, omega0, gamma, g):
+    """((omega - omega0)^2 + gamma^2) / ((omega - omega0)^2 + (g gamma)^2): the linear line's
+    Lorentzian of half-width gamma turned into one of half-width g gamma, at equal source."""
+    d2 = (np.asarray(omega, dtype=float) - omega0) ** 2
+    return (d2 + gamma**2) / (d2 + (g * gamma) ** 2)
+
+
+def fit_source_and_width(mean, err, model, grid):
+    """Weighted least squares of mean (err) by a model(g) over g in `grid`, a linear:
+    {'free': (chi2, a, g), 'source': (chi2, a, 1), 'damping': (chi2, 1, g)}.  model(g) is the
+    window-smoothed model spectrum at the fitted frequencies for amplitude 1."""
+    w = 1.0 / np.asarray(err, dtype=float) ** 2
+    mean = np.asarray(mean, dtype=float)
+    free, damping = (np.inf, np.nan, np.nan), (np.inf, 1.0, np.nan)
+    for g in grid:
+        t = model(g)
+        a = float((w * mean * t).sum() / (w * t * t).sum())
+        chi2 = float((w * (mean - a * t) ** 2).sum())
+        if chi2 < free[0]:
+            free = (chi2, a, float(g))
+        chi2_1 = float((w * (mean - t) ** 2).sum())
+        if chi2_1 < damping[0]:
+            damping = (chi2_1, 1.0, float(g))
+    t = model(1.0)
+    a = float((w * mean * t).sum() / (w * t * t).sum())
+    source = (float((w * (mean - a * t) ** 2).sum()), a, 1.0)
+    return {"free": free, "source": source, "damping": damping}
+
+
+def width(out, cases):
+    """Weaker source or stronger damping: the mode's height and width in MD(full)."""
+    from hmfdiff.analysis.md_spectrum import smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+
+    print("# The mode's source and damping in MD(full) (studies/mode_trapping.py width):")
+    lo, hi = WIDTH_FIT
+    print(f"# the mean N S_x over (omega - omega0) / gamma = {lo:+g} ... {hi:+g} fitted by")
+    print("# the window-smoothed a S_lin(omega) ((omega - omega0)^2 + gamma^2) / ((omega -")
+    print("# omega0)^2 + (g gamma)^2); a: the source over the linear one, g: the damping over")
+    print("# the linear gamma (+- jackknife over realisations); chi^2 of the fit with a and g")
+    print("# free, with g = 1 (weaker source) and with a = 1 (stronger damping); power: the")
+    print("# fitted model's power over the fit band / the linear; then the MD's N S_x over the")
+    print("# linear, summed over sub-bands of (omega - omega0) / gamma (+- jackknife); slow")
+    print("# separatrix motion: rms of |M| band-passed below omega0 - 4 gamma over 2 M-bar (in")
+    print("# kappa), and where in the line the n = 2 resonance lies that far inside the separatrix")
+    for case in cases:
+        state, omega0, gamma, _, _ = mode_parameters(case)
+        dressed = _dressed_spectrum(state)
+        print(f"{case}: omega0 = {omega0:.5f}, gamma = {gamma:.5f}")
+        for files, data, N, n_t, seg in _ensembles(out, case):
+            om, S, dt = _spectra(data, N, slice(0, n_t), seg)
+            r = source_and_width(om, S, dt, seg, dressed, omega0, gamma)
+            slow, edge = _slow_separatrix_motion(data, n_t, dt, state, omega0, gamma)
+            x = (om - omega0) / gamma
+            ratios = []
+            for lo, hi in SUB_BANDS:
+                sel = (x > lo) & (x < hi)
+                th = float(smoothed(dressed, om[sel], seg, dt).sum())
+                v, e = jackknife(S[:, sel], lambda s, t=th: s.mean(0).sum() / t)
+                ratios.append(f"{lo:+g}..{hi:+g}: {v:.3f} +- {e:.3f}")
+            print(
+                f"  N = {N:.0f} ({len(files)} realisations, {r['n_freq']} frequencies, resolution "
+                f"{2 * np.pi / (seg * dt) / gamma:.2f} gamma): a = {r['a']:.3f} +- "
+                f"{r['a_err']:.3f}, g = {r['g']:.3f} +- {r['g_err']:.3f}, power {r['power']:.3f}"
+                f" +- {r['power_err']:.3f}; chi^2 free {r['chi2_free']:.1f}, g = 1 "
+                f"{r['chi2_source']:.1f} (a {r['a_source']:.3f}), a = 1 {r['chi2_damping']:.1f} "
+                f"(g {r['g_damping']:.3f}); MD / linear over (omega - omega0) / gamma in "
+                + ", ".join(ratios)
+                + f"; slow separatrix motion {slow:.3e} = 1 - kappa_res at (omega - omega0) / "
+                f"gamma = {edge:+.2f}",
+                flush=True,
+            )
+
+
+def low_frequency_variance(x, dt, cutoff):
+    """The variance of x (about its mean) at omega below `cutoff`, from its Hann-tapered
+    periodogram: a sharp cut of the plain Fourier transform lets a strong line above the cutoff
+    leak into it through the record's ends (side lobes ~ 1/omega), the taper's fall as
+    omega^-3."""
+    x = np.asarray(x, dtype=float) - np.mean(x)
+    win = np.hanning(x.size + 2)[1:-1]
+    X = np.fft.rfft(win * x)
+    omega = 2.0 * np.pi * np.fft.rfftfreq(x.size, dt)
+    weight = np.where(omega == 0.0, 1.0, 2.0)  # the one-sided transform counts omega > 0 twice
+    return float((weight * np.abs(X) ** 2)[omega < cutoff].sum() / (x.size * np.sum(win**2)))
+
+
+def _slow_separatrix_motion(data, n_t, dt, state, omega0, gamma):
+    """(dkappa_slow, x): the separatrix's slow motion in kappa, rms of |M| below omega0 - 4
+    gamma (where the linear spectrum is ~ 0; `low_frequency_variance`) over 2 M-bar, averaged
+    over the realisations in quadrature; and the (omega - omega0) / gamma whose n = 2 librating
+    resonance lies that far inside the separatrix (1 - kappa_res = dkappa_slow)."""
+    from scipy.optimize import brentq
+
+    from hmfdiff.meanfield import orbits
+
+    var = []
+    for ds in data:
+        m = np.hypot(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t])
+        var.append(low_frequency_variance(m, dt, omega0 - 4.0 * gamma) / (2 * m.mean()) ** 2)
+    slow = float(np.sqrt(np.mean(var)))
+    M0 = float(state.M0)
+
+    def distance(x):
+        w = (omega0 + x * gamma) / HARMONIC
+        return np.log(1.0 - float(orbits.kappa_from_frequency(w, M0, "libration"))) - np.log(slow)
+
+    top = (HARMONIC * np.sqrt(M0) * (1.0 - 1e-9) - omega0) / gamma  # the librating band's edge
+    try:
+        edge = brentq(distance, -4.0, min(12.0, top), xtol=1e-3)
+    except ValueError:
+        edge = np.nan
+    return slow, float(edge)
+
+
+def source_and_width(om, S, dt, seg, linear, omega0, gamma, fit_band=WIDTH_FIT, grid=None):
+    """The fit of `width` on Welch spectra S (realisations, frequencies) at om (segments of seg
+    samples dt apart) against the linear spectrum `linear` (a callable of omega) with its mode
+    omega0 - i gamma, over omega0 + fit_band gamma: a dict of a, g, the power ratio over the
+    fit band (each with its jackknife error), the number of frequencies fitted and the chi^2
+    (and best parameter) of each hypothesis."""
+    from hmfdiff.analysis.md_spectrum import smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+
+    x = (om - omega0) / gamma
+    band = (x > fit_band[0]) & (x < fit_band[1])
+    o = om[band]
+    reach = 13 * 2.0 * np.pi / (seg * dt)  # the window's kernel: +-12 resolution widths
+    fine = np.linspace(o[0] - reach, o[-1] + reach, 6001)
+    lin_fine = linear(fine)
+
+    @functools.cache
+    def model(g):
+        def spectrum(w):
+            return np.interp(w, fine, lin_fine) * pole_rewidth_factor(w, omega0, gamma, g)
+
+        return smoothed(spectrum, o, seg, dt)
+
+    if grid is None:
+        grid = np.round(np.arange(0.5, 2.0 + 1e-9, 0.005), 6)
+    lin_power = float(model(1.0).sum())
+
+    def fits(v):
+        # weights from the linear line's shape, not from each frequency's own scatter (which
+        # weighs the frequencies that fluctuated low more, and broadens the fitted line): the
+        # Welch estimates' relative error is about the same at every frequency
+        rel = np.median(v.std(0, ddof=1) / np.abs(v.mean(0)))
+        return fit_source_and_width(v.mean(0), rel * model(1.0) / np.sqrt(v.shape[0]), model, grid)
+
+    def power(v):
+        _, a, g = fits(v)["free"]
+        return a * float(model(g).sum()) / lin_power
+
+    best = fits(S[:, band])
+    a, a_err = jackknife(S[:, band], lambda v: fits(v)["free"][1])
+    g, g_err = jackknife(S[:, band], lambda v: fits(v)["free"][2])
+    pw, pw_err = jackknife(S[:, band], power)
+    return {
+        "a": a, "a_err": a_err, "g": g, "g_err": g_err, "power": pw, "power_err": pw_err,
+        "n_freq": int(o.size), "chi2_free": best["free"][0], "chi2_source": best["source"][0],
+        "a_source": best["source"][1], "chi2_damping": best["damping"][0],
+        "g_damping": best["damping"][2],
+    }  # fmt: skip
+
+
 def main(argv):
-    if not argv or argv[0] not in ("theory", "run", "analyse", "lineshape", "separatrix"):
+    commands = ("theory", "run", "analyse", "lineshape", "separatrix", "width")
+    if not argv or argv[0] not in commands:
         sys.exit(__doc__)
     if argv[0] == "theory":
         theory()
@@ -496,6 +686,8 @@ def main(argv):
         analyse(argv[1], argv[2:] or CASES)
     elif argv[0] == "lineshape":
         lineshape(argv[1], argv[2:] or CASES)
+    elif argv[0] == "width":
+        width(argv[1], argv[2:] or CASES)
     else:
         separatrix(argv[1], argv[2:] or CASES)
 
