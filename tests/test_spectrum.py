@@ -144,3 +144,27 @@ def test_welch_error_is_honest_for_a_line_spectrum():
     assert 0.5 < omega[k] < 1.5
     ratio = np.std(means, ddof=1) / np.mean(errs)
     assert 0.85 < ratio < 1.2, ratio
+
+
+@pytest.mark.parametrize("u", [-0.1, 0.2475])
+@pytest.mark.parametrize("component", ["cc", "ss"])
+def test_thermal_dressed_spectrum_is_the_fluctuation_dissipation_theorem(u, component):
+    """For a thermal state f ~ exp(-beta h), df/dkappa = -beta Omega dJ/dkappa f (dh/dJ =
+    Omega), so the pole of eps (2 pi^2 sum_l W c_l^2 f' / |Omega'|, dielectric module) is
+    -(beta omega / 2) times the bare N S (4 pi^2 sum_n W J' f c_n^2 / |n Omega'|, spectrum
+    module): Im eps = -(beta omega / 2) N S_bare, and the dressed spectrum is the
+    fluctuation-dissipation theorem's N S = (2 / (beta omega)) |Im 1/eps|.  The two modules
+    compute their sums by different routes (resonance roots against a quadrature in Omega with
+    its pole subtracted); the identity ties the spectrum's normalisation to the tensor's, and
+    fails if the dressing is dropped (u = 0.2475: |eps|^-2 up to ~300)."""
+    st = ThermalState(u=u)
+    eps = DielectricTensor(st)
+    w = np.array([0.1, 0.13, 0.196, 0.3, 0.45, 0.5, 0.52, 0.8, 1.2, 1.7, 2.5, 3.5])
+    e = eps(w)[0 if component == "cc" else 1]
+    bare = spectrum.bath_spectrum(st, w, component=component)
+    dressed = spectrum.dressed_spectrum(st, w, eps, component=component)
+    ok = bare > 1e-8 * bare.max()  # the bare spectrum vanishes like exp(-pi sqrt(M0) / Omega)
+    assert ok.sum() >= 9
+    np.testing.assert_allclose(e.imag[ok], -0.5 * st.beta * w[ok] * bare[ok], rtol=1e-5)
+    fdt = 2.0 / (st.beta * w) * np.abs((1.0 / e).imag)
+    np.testing.assert_allclose(dressed[ok], fdt[ok], rtol=1e-5)
