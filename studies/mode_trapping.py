@@ -109,6 +109,9 @@ FLOOR = (0.05, 0.1)
 WIDTH_FIT = (-1.0, 4.0)
 #: `width`: the sub-bands, (omega - omega0) / gamma, over which MD / linear is printed
 SUB_BANDS = ((-4.0, -1.0), (-1.0, 1.0), (1.0, 4.0), (4.0, 12.0))
+#: `width`: bins of (1 - kappa_res) / (the separatrix's slow motion) over which MD / linear is
+#: printed: does the line fall short where its resonant orbits lie within that motion?
+REACH_BINS = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, np.inf)
 
 
 def band_offsets(case, gamma, kind):
@@ -520,19 +523,18 @@ def fit_source_and_width(mean, err, model, grid):
     window-smoothed model spectrum at the fitted frequencies for amplitude 1."""
     w = 1.0 / np.asarray(err, dtype=float) ** 2
     mean = np.asarray(mean, dtype=float)
-    free, damping = (np.inf, np.nan, np.nan), (np.inf, 1.0, np.nan)
-    for g in grid:
-        t = model(g)
-        a = float((w * mean * t).sum() / (w * t * t).sum())
-        chi2 = float((w * (mean - a * t) ** 2).sum())
-        if chi2 < free[0]:
-            free = (chi2, a, float(g))
-        chi2_1 = float((w * (mean - t) ** 2).sum())
-        if chi2_1 < damping[0]:
-            damping = (chi2_1, 1.0, float(g))
+    T = np.array([model(g) for g in grid])  # (g, frequency)
+    a = (T * w * mean).sum(axis=1) / (T * T * w).sum(axis=1)
+    chi2 = ((mean - a[:, None] * T) ** 2 * w).sum(axis=1)
+    chi2_1 = ((mean - T) ** 2 * w).sum(axis=1)
+    k, k1 = int(np.argmin(chi2)), int(np.argmin(chi2_1))
+    free, damping = (
+        (float(chi2[k]), float(a[k]), float(grid[k])),
+        (float(chi2_1[k1]), 1.0, float(grid[k1])),
+    )
     t = model(1.0)
-    a = float((w * mean * t).sum() / (w * t * t).sum())
-    source = (float((w * (mean - a * t) ** 2).sum()), a, 1.0)
+    a1 = float((w * mean * t).sum() / (w * t * t).sum())
+    source = (float((w * (mean - a1 * t) ** 2).sum()), a1, 1.0)
     return {"free": free, "source": source, "damping": damping}
 
 
@@ -579,6 +581,8 @@ def width(out, cases):
                 f"gamma = {edge:+.2f}",
                 flush=True,
             )
+            cells = _ratio_by_reach(om, S, dt, seg, dressed, state, omega0, gamma, slow)
+            print("    MD / linear by (1 - kappa_res) / slow motion: " + ", ".join(cells))
 
 
 def low_frequency_variance(x, dt, cutoff):
@@ -622,6 +626,34 @@ def _slow_separatrix_motion(data, n_t, dt, state, omega0, gamma):
     return slow, float(edge)
 
 
+def _ratio_by_reach(om, S, dt, seg, dressed, state, omega0, gamma, slow):
+    """MD / linear summed over the Welch frequencies within omega0 -+ 6 gamma grouped by how far
+    their n = 2 librating resonance lies inside the separatrix, in units of its slow motion, y =
+    (1 - kappa_res) / dkappa_slow (REACH_BINS), at the frequencies where the smoothed linear N S_x
+    is at least 10 times the MD's floor (mean N S_x over FLOOR): one cell per bin, 'lo-hi: ratio
+    +- jackknife (frequencies)'."""
+    from hmfdiff.analysis.md_spectrum import smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+    from hmfdiff.meanfield import orbits
+
+    floor = S[:, (om >= FLOOR[0]) & (om <= FLOOR[1])].mean()
+    near = np.abs(om - omega0) < 6.0 * gamma
+    th = np.zeros(om.size)
+    th[near] = smoothed(dressed, om[near], seg, dt)
+    kappa = orbits.kappa_from_frequency(om / HARMONIC, float(state.M0), "libration")
+    y = np.where(np.isfinite(kappa), (1.0 - kappa) / slow, np.inf)
+    use = near & (th > 10.0 * floor)
+    cells = []
+    for lo, hi in zip(REACH_BINS[:-1], REACH_BINS[1:], strict=True):
+        sel = use & (y >= lo) & (y < hi)
+        if not sel.any():
+            continue
+        t = float(th[sel].sum())
+        v, e = jackknife(S[:, sel], lambda s, t=t: s.mean(0).sum() / t)
+        cells.append(f"{lo:g}-{hi:g}: {v:.3f} +- {e:.3f} ({sel.sum()})")
+    return cells
+
+
 def source_and_width(om, S, dt, seg, linear, omega0, gamma, fit_band=WIDTH_FIT, grid=None):
     """The fit of `width` on Welch spectra S (realisations, frequencies) at om (segments of seg
     samples dt apart) against the linear spectrum `linear` (a callable of omega) with its mode
@@ -656,14 +688,12 @@ def source_and_width(om, S, dt, seg, linear, omega0, gamma, fit_band=WIDTH_FIT, 
         rel = np.median(v.std(0, ddof=1) / np.abs(v.mean(0)))
         return fit_source_and_width(v.mean(0), rel * model(1.0) / np.sqrt(v.shape[0]), model, grid)
 
-    def power(v):
+    def estimates(v):
         _, a, g = fits(v)["free"]
-        return a * float(model(g).sum()) / lin_power
+        return np.array([a, g, a * float(model(g).sum()) / lin_power])
 
     best = fits(S[:, band])
-    a, a_err = jackknife(S[:, band], lambda v: fits(v)["free"][1])
-    g, g_err = jackknife(S[:, band], lambda v: fits(v)["free"][2])
-    pw, pw_err = jackknife(S[:, band], power)
+    (a, g, pw), (a_err, g_err, pw_err) = jackknife(S[:, band], estimates)
     return {
         "a": a, "a_err": a_err, "g": g, "g_err": g_err, "power": pw, "power_err": pw_err,
         "n_freq": int(o.size), "chi2_free": best["free"][0], "chi2_source": best["source"][0],

@@ -20,6 +20,8 @@ the spectrum has structure narrower than the resolution 4 pi / segment (band edg
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..kinetic.dielectric import DielectricTensor
@@ -122,12 +124,20 @@ def smoothed(spectrum, omega, segment_length, dt, oversample=8, lobes=12):
     expectation of the Welch estimate.  The integral runs over +-`lobes` resolution widths
     (2 pi / segment) with `oversample` points per width (the far side lobes of the Hann
     window fall as nu^-6)."""
+    nu, K = _smoothing_weights(int(segment_length), float(dt), int(oversample), int(lobes))
+    omega = np.asarray(omega, dtype=float)
+    return np.array([spectrum(w - nu) @ K for w in omega])
+
+
+@functools.lru_cache(maxsize=16)
+def _smoothing_weights(segment_length, dt, oversample, lobes):
+    """(nu, K dnu / 2 pi) of `smoothed`, computed once per window (read-only arrays)."""
     width = 2.0 * np.pi / (segment_length * dt)
     d = width / oversample
     nu = np.arange(-lobes * width, lobes * width + d / 2, d)
     K = window_kernel(nu, segment_length, dt) * d / (2.0 * np.pi)
-    omega = np.asarray(omega, dtype=float)
-    return np.array([spectrum(w - nu) @ K for w in omega])
+    nu.flags.writeable = K.flags.writeable = False
+    return nu, K
 
 
 AGREEMENT_NOTE = (
