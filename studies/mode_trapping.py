@@ -552,12 +552,15 @@ def width(out, cases):
     print("# free, with g = 1 (weaker source) and with a = 1 (stronger damping); power: the")
     print("# fitted model's power over the fit band / the linear; then the MD's N S_x over the")
     print("# linear, summed over sub-bands of (omega - omega0) / gamma (+- jackknife); slow")
-    print("# separatrix motion: rms of |M| band-passed below omega0 - 4 gamma over 2 M-bar (in")
-    print("# kappa), and where in the line the n = 2 resonance lies that far inside the separatrix")
+    print("# separatrix motion: rms of |M| below omega0 - 4 gamma (Hann-tapered periodogram)")
+    print("# over 2 M-bar, in kappa, and where in the line the n = 2 resonance lies that far")
+    print("# inside the separatrix; then MD / linear over omega0 -+ 6 gamma where the linear")
+    print("# N S_x exceeds 10 times the MD's floor, grouped by (1 - kappa_res) / slow motion")
+    print("# (number of frequencies)")
     for case in cases:
         state, omega0, gamma, _, _ = mode_parameters(case)
         dressed = _dressed_spectrum(state)
-        print(f"{case}: omega0 = {omega0:.5f}, gamma = {gamma:.5f}")
+        print(f"{case}: M0 = {state.M0:.5f}, omega0 = {omega0:.5f}, gamma = {gamma:.5f}")
         for files, data, N, n_t, seg in _ensembles(out, case):
             om, S, dt = _spectra(data, N, slice(0, n_t), seg)
             r = source_and_width(om, S, dt, seg, dressed, omega0, gamma)

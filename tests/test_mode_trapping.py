@@ -305,3 +305,28 @@ def test_slow_separatrix_motion_keeps_only_what_lies_below_the_line():
             assert abs(slow / (d / np.sqrt(2)) - 1) < 0.01, (d, slow)
             edges.append(edge)
         assert np.all(np.isfinite(edges)) and np.all(np.diff(edges) > 0), edges
+
+
+def test_width_reference_edges_are_where_the_resonance_meets_the_slow_motion():
+    """Each line of the reference file's `width` output: the place in the line it quotes,
+    (omega - omega0) / gamma, is where the n = 2 librating resonance lies the quoted slow
+    motion inside the separatrix (1 - kappa_res(omega / 2) = dkappa_slow), recomputed from the
+    orbits (a stale file or a changed orbit frequency fails)."""
+    from hmfdiff.meanfield import orbits
+
+    text = (ROOT / "docs" / "reference" / "mode_width_u0.2475.txt").read_text()
+    head = re.compile(r"^(\S+): M0 = ([\d.]+), omega0 = ([\d.]+), gamma = ([\d.]+)$")
+    line = re.compile(
+        r"slow separatrix motion ([\d.e+-]+) = 1 - kappa_res at \(omega - omega0\) / gamma = "
+        r"([+-][\d.]+)"
+    )
+    seen = 0
+    for row in text.splitlines():
+        if m := head.match(row):
+            M0, omega0, gamma = (float(v) for v in m.groups()[1:])
+        elif m := line.search(row):
+            slow, edge = float(m[1]), float(m[2])
+            kappa = orbits.kappa_from_frequency((omega0 + edge * gamma) / 2, M0, "libration")
+            assert abs((1 - float(kappa)) / slow - 1) < 0.02, row
+            seen += 1
+    assert seen >= 7
