@@ -339,8 +339,115 @@ PROP = "vs propagated Lenard-Balescu"
 MSEP = "mode_separatrix_u0.2475.txt"
 #: its control at u = 0.23
 MSEP23 = "mode_separatrix_u0.23.txt"
+#: the u = 0.2475 mode's line: source or damping, its flanks (studies/mode_trapping.py width)
+MWID = "mode_width_u0.2475.txt"
 
 CLAIMS = [
+    C(
+        R,
+        MWID,
+        ["-4..-1: 0.698 +- 0.051", "-4..-1: 0.791 +- 0.038"],
+        "the power is missing from the line's low-frequency flank (0.698 +- 0.051 and 0.791 +- "
+        "0.038 of the linear at 1e6 and 4e6), at the linear width within two standard errors;",
+    ),
+    C(
+        F,
+        MWID,
+        [
+            "realisations run to t = 2000",
+            "1000: a resolution of 2 pi / 1000 = 0.38 gamma at u = 0.2475",
+            "N = 4000000 (40 realisations",
+            "N = 250000 (80 realisations",
+        ],
+        "fresh realisations run to t = 2000, whose Welch segments of 1000 resolve 0.38 gamma: 40 "
+        "at each of N = 62500, 125000, 500000, 1e6, 4e6 and 80 at 250000)",
+    ),
+    C(
+        F,
+        MWID,
+        "(omega - omega0) / gamma = -1 ... +4 fitted by",
+        "omega0 - gamma ... omega0 + 4 gamma (above the floor)",
+    ),
+    C(
+        F,
+        MWID,
+        ["g = 0.935 +- 0.055", "g = 0.980 +- 0.104", "g = 0.950 +- 0.088", "g = 1.185 +- 0.108"],
+        "(g = 0.935 +- 0.055, 0.980 +- 0.104, 0.950 +- 0.088, 1.185 +- 0.108 at N = 2.5e5, 5e5, "
+        "1e6, 4e6)",
+    ),
+    C(
+        F,
+        MWID,
+        [
+            "-4..-1: 0.825 +- 0.065",
+            "-4..-1: 0.698 +- 0.051",
+            "-4..-1: 0.791 +- 0.038",
+            "-4..-1: 0.927 +- 0.058",
+            "+1..+4: 0.976 +- 0.079",
+        ],
+        "over omega0 - 4 gamma ... omega0 - gamma the MD has 0.825 +- 0.065, 0.698 +- 0.051 and "
+        "0.791 +- 0.038 of the linear N S_x at N = 5e5, 1e6 and 4e6 (0.927 +- 0.058 at 2.5e5,",
+    ),
+    C(
+        F,
+        MWID,
+        [
+            "+1..+4: 0.976 +- 0.079",
+            "+1..+4: 0.867 +- 0.078",
+            "+1..+4: 1.016 +- 0.085",
+            "+1..+4: 0.957 +- 0.069",
+        ],
+        "over omega0 + gamma ... omega0 + 4 gamma it has 0.976 +- 0.079, 0.867 +- 0.078, "
+        "1.016 +- 0.085 and 0.957 +- 0.069 at N = 2.5e5 ... 4e6.",
+    ),
+    C(
+        F,
+        MWID,
+        [
+            "N = 62500 (40",
+            "-1..+1: 0.461 +- 0.035",
+            "-1..+1: 0.699 +- 0.062",
+            "+1..+4: 0.706 +- 0.059",
+            "+1..+4: 0.856 +- 0.068",
+            "g = 1.190 +- 0.090",
+        ],
+        "over omega0 -+ gamma it holds 0.461 +- 0.035 and 0.699 +- 0.062 of the linear power at "
+        "N = 62500 and 125000, over the upper flank 0.706 +- 0.059 and 0.856 +- 0.068, and at "
+        "62500 it is wider than the linear line (g = 1.190 +- 0.090).",
+    ),
+    C(
+        F,
+        MWID,
+        [
+            "below omega0 - 4 gamma (Hann-tapered periodogram)",
+            "over 2 M-bar, in kappa, and where in the line the n = 2 resonance lies that far",
+            "N = 125000 (40",
+            "(omega - omega0) / gamma = +3.28",
+            "(omega - omega0) / gamma = +2.16",
+            "(omega - omega0) / gamma = +1.08",
+            "(omega - omega0) / gamma = +0.23",
+            "(omega - omega0) / gamma = -0.50",
+            "(omega - omega0) / gamma = -1.88",
+        ],
+        "(rms of |M| below omega0 - 4 gamma, over 2 M-bar) reaches the n = 2 resonances of the "
+        "line up to omega0 + 3.28 gamma at N = 62500, omega0 + 2.16 gamma at 125000, and omega0 + "
+        "1.08, + 0.23, - 0.50 and - 1.88 gamma at 2.5e5, 5e5, 1e6 and 4e6.",
+        {"0.50": "-(-0.50)", "1.88": "-(-1.88)"},
+    ),
+    C(
+        F,
+        MWID,
+        [
+            "g = 0.980 +- 0.081",
+            "g = 1.060 +- 0.055",
+            "g = 0.965 +- 0.066",
+            "-4..-1: 0.944 +- 0.051",
+            "-4..-1: 0.819 +- 0.038",
+            "-4..-1: 0.955 +- 0.051",
+        ],
+        "(g = 0.980 +- 0.081, 1.060 +- 0.055, 0.965 +- 0.066 at N = 62500, 250000, 1e6) and its "
+        "low-frequency flank 0.944 +- 0.051, 0.819 +- 0.038 and 0.955 +- 0.051 of the linear.",
+    ),
     C(
         F,
         MSEP23,
@@ -3109,6 +3216,7 @@ CONTEXT = [
     ("docs/findings.md", "Chavanis 2022"),
     ("docs/findings.md", "for 1D self-gravitating"),
     ("docs/findings.md", "1 % below the critical energy"),
+    ("docs/findings.md", "the deficit over omega0 -+ 4 gamma above"),
     ("docs/findings.md", "eps_ss(0) = 0"),
     ("docs/performance.md", "(40 MD(bath) and 20 MD(full)"),
     ("docs/performance.md", "every 32 steps"),
