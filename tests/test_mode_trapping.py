@@ -184,25 +184,31 @@ def test_separatrix_reference_motion_is_rms_over_twice_the_mean_modulus():
     """Each line of the reference file's `separatrix` output: the separatrix motion in kappa
     is rms(|M| - M-bar) / (2 M-bar) of the quoted sqrt(N) rms and M-bar / M0, and its ratio to
     1 - kappa_res is the quoted one (a lost factor or a stale line fails)."""
-    text = "\n".join(
-        (ROOT / "docs" / "reference" / name).read_text()
-        for name in ("mode_separatrix_u0.2475.txt", "mode_separatrix_u0.23.txt")
-    )
     head = re.compile(r"^(\S+): M0 = ([\d.]+), .*1 - kappa_res = ([\d.e+-]+),")
     line = re.compile(
         r"N = (\d+) .*M-bar / M0 = ([\d.]+) .*sqrt\(N\) rms\(\|M\| - M-bar\) = ([\d.]+); "
         r"separatrix motion in kappa ([\d.e+-]+) = ([\d.e+-]+) \(1 - kappa_res\)"
     )
-    seen = 0
-    for row in text.splitlines():
-        if m := head.match(row):
-            M0, gap = float(m[2]), float(m[3])
-        elif m := line.search(row):
-            N, ratio, srms, motion, over = (float(v) for v in m.groups())
-            assert abs(srms / np.sqrt(N) / (2 * ratio * M0) / motion - 1) < 2e-3, row
-            assert abs(motion / gap / over - 1) < 5e-3, row
-            seen += 1
-    assert seen >= 11
+    names = ("mode_separatrix_u0.2475.txt", "mode_separatrix_u0.23.txt")
+    rows = list(_reference_rows(names, head, line))
+    for h, m in rows:
+        M0, gap = float(h[2]), float(h[3])
+        N, ratio, srms, motion, over = (float(v) for v in m.groups())
+        assert abs(srms / np.sqrt(N) / (2 * ratio * M0) / motion - 1) < 2e-3, m[0]
+        assert abs(motion / gap / over - 1) < 5e-3, m[0]
+    assert len(rows) >= 11
+
+
+def _reference_rows(names, head, line):
+    """(head match, line match) of each row of the reference files `names` that `line`
+    matches, with the last row before it that `head` matched (its state's line)."""
+    h = None
+    for name in names:
+        for row in (ROOT / "docs" / "reference" / name).read_text().splitlines():
+            if m := head.match(row):
+                h = m
+            elif m := line.search(row):
+                yield h, m
 
 
 def test_case_spec_reads_the_configs_then_thermal_names(monkeypatch):
@@ -314,19 +320,15 @@ def test_width_reference_edges_are_where_the_resonance_meets_the_slow_motion():
     orbits (a stale file or a changed orbit frequency fails)."""
     from hmfdiff.meanfield import orbits
 
-    text = (ROOT / "docs" / "reference" / "mode_width_u0.2475.txt").read_text()
     head = re.compile(r"^(\S+): M0 = ([\d.]+), omega0 = ([\d.]+), gamma = ([\d.]+)$")
     line = re.compile(
         r"slow separatrix motion ([\d.e+-]+) = 1 - kappa_res at \(omega - omega0\) / gamma = "
         r"([+-][\d.]+)"
     )
-    seen = 0
-    for row in text.splitlines():
-        if m := head.match(row):
-            M0, omega0, gamma = (float(v) for v in m.groups()[1:])
-        elif m := line.search(row):
-            slow, edge = float(m[1]), float(m[2])
-            kappa = orbits.kappa_from_frequency((omega0 + edge * gamma) / 2, M0, "libration")
-            assert abs((1 - float(kappa)) / slow - 1) < 0.02, row
-            seen += 1
-    assert seen >= 7
+    rows = list(_reference_rows(("mode_width_u0.2475.txt",), head, line))
+    for h, m in rows:
+        M0, omega0, gamma = (float(v) for v in h.groups()[1:])
+        slow, edge = float(m[1]), float(m[2])
+        kappa = orbits.kappa_from_frequency((omega0 + edge * gamma) / 2, M0, "libration")
+        assert abs((1 - float(kappa)) / slow - 1) < 0.02, m[0]
+    assert len(rows) >= 7
