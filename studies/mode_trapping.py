@@ -75,7 +75,10 @@ the linear spectrum with its pole's width scaled by g and its height by a, and p
 free: weaker source; a = 1, g free: stronger damping) against the two-parameter fit, the
 power ratio the fit implies over its band, and MD / linear over the SUB_BANDS (the lower wing,
 the core, the upper wing, the far upper wing: a stronger damping lowers the core and leaves
-the wings; a weaker source lowers all alike).  Run it on realisations run to T_MAX = 2000 (Welch
+the wings; a weaker source lowers all alike), and the same from the spectrum of |M|, which needs
+no frame: M_parallel is M projected on its direction averaged over a Welch segment, which at
+small N lags the direction's wandering and takes power from the mode (at u = 0.2475 and N =
+62500, the more so the longer the segment).  Run it on realisations run to T_MAX = 2000 (Welch
 segments of 1000: a resolution of 2 pi / 1000 = 0.38 gamma for u = 0.2475).
 """
 
@@ -556,7 +559,8 @@ def width(out, cases):
     print("# over 2 M-bar, in kappa, and where in the line the n = 2 resonance lies that far")
     print("# inside the separatrix; then MD / linear over omega0 -+ 6 gamma where the linear")
     print("# N S_x exceeds 10 times the MD's floor, grouped by (1 - kappa_res) / slow motion")
-    print("# (number of frequencies)")
+    print("# (number of frequencies); |M| (no frame): MD / linear over the sub-bands and over")
+    print("# omega0 -+ 4 gamma from the MD's N S of |M| (no frame) instead of M_parallel")
     for case in cases:
         state, omega0, gamma, _, _ = mode_parameters(case)
         dressed = _dressed_spectrum(state)
@@ -586,6 +590,9 @@ def width(out, cases):
             )
             cells = _ratio_by_reach(om, S, dt, seg, dressed, state, omega0, gamma, slow)
             print("    MD / linear by (1 - kappa_res) / slow motion: " + ", ".join(cells))
+            mod = _modulus_ratios(data, N, n_t, seg, dt, dressed, omega0, gamma)
+            cells = [f"{lo:+g}..{hi:+g}: {v:.3f} +- {e:.3f}" for lo, hi, v, e in mod]
+            print("    |M| (no frame): " + ", ".join(cells))
 
 
 def low_frequency_variance(x, dt, cutoff):
@@ -627,6 +634,32 @@ def _slow_separatrix_motion(data, n_t, dt, state, omega0, gamma):
     except ValueError:
         edge = np.nan
     return slow, float(edge)
+
+
+def _modulus_ratios(data, N, n_t, seg, dt, dressed, omega0, gamma):
+    """(lo, hi, MD / linear, its jackknife error) over SUB_BANDS and over omega0 -+ 4 gamma (lo,
+    hi in units of gamma from omega0), with the MD's N S of |M| in place of
+    N S_x of M_parallel: to first order in the fluctuation they are the same, but M_parallel is
+    projected on the direction of M averaged over a Welch segment (`_slow_frame`), which at small
+    N lags the direction's wandering and takes power from the mode; |M| needs no frame."""
+    from hmfdiff.analysis.fluctuations import welch_spectrum
+    from hmfdiff.analysis.md_spectrum import smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+
+    rows = []
+    for ds in data:
+        mod = np.hypot(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t])
+        om, S, _, _ = welch_spectrum(mod[None, :], dt, seg)
+        rows.append(N * S)
+    S = np.array(rows)
+    x = (om - omega0) / gamma
+    cells = []
+    for lo, hi in (*SUB_BANDS[:3], (-4.0, 4.0)):
+        sel = (x > lo) & (x < hi)
+        th = float(smoothed(dressed, om[sel], seg, dt).sum())
+        v, e = jackknife(S[:, sel], lambda s, t=th: s.mean(0).sum() / t)
+        cells.append((lo, hi, float(v), float(e)))
+    return cells
 
 
 def _ratio_by_reach(om, S, dt, seg, dressed, state, omega0, gamma, slow):
