@@ -543,39 +543,34 @@ def fit_source_and_width(mean, err, model, grid):
 
 def width(out, cases):
     """Weaker source or stronger damping: the mode's height and width in MD(full)."""
-    from hmfdiff.analysis.md_spectrum import smoothed
-    from hmfdiff.analysis.relaxation_md import jackknife
-
-    print("# The mode's source and damping in MD(full) (studies/mode_trapping.py width):")
-    lo, hi = WIDTH_FIT
-    print(f"# the mean N S_x over (omega - omega0) / gamma = {lo:+g} ... {hi:+g} fitted by")
-    print("# the window-smoothed a S_lin(omega) ((omega - omega0)^2 + gamma^2) / ((omega -")
-    print("# omega0)^2 + (g gamma)^2); a: the source over the linear one, g: the damping over")
-    print("# the linear gamma (+- jackknife over realisations); chi^2 of the fit with a and g")
-    print("# free, with g = 1 (weaker source) and with a = 1 (stronger damping); power: the")
-    print("# fitted model's power over the fit band / the linear; then the MD's N S_x over the")
-    print("# linear, summed over sub-bands of (omega - omega0) / gamma (+- jackknife); slow")
-    print("# separatrix motion: rms of |M| below omega0 - 4 gamma (Hann-tapered periodogram)")
-    print("# over 2 M-bar, in kappa, and where in the line the n = 2 resonance lies that far")
-    print("# inside the separatrix; then MD / linear over omega0 -+ 6 gamma where the linear")
-    print("# N S_x exceeds 10 times the MD's floor, grouped by (1 - kappa_res) / slow motion")
-    print("# (number of frequencies); |M| (no frame): MD / linear over the sub-bands and over")
-    print("# omega0 -+ 4 gamma from the MD's N S of |M| (no frame) instead of M_parallel")
+    lo, hi = (f"{v:+g}" for v in WIDTH_FIT)
+    print("# The mode's source and damping in MD(full) (studies/mode_trapping.py width), from the")
+    print("# MD's N S of |M| (no frame; `_modulus_spectra`): the mean N S over (omega - omega0) /")
+    print(f"# gamma = {lo} ... {hi} fitted by the window-smoothed linear N S_x, a S_lin(omega)")
+    print("# ((omega - omega0)^2 + gamma^2) / ((omega - omega0)^2 + (g gamma)^2); a: the source")
+    print("# over the linear one, g: the damping over the linear gamma (+- jackknife over")
+    print("# realisations); chi^2 of the fit with a and g free, with g = 1 (weaker source) and")
+    print("# with a = 1 (stronger damping); power: the fitted model's power over the fit band /")
+    print("# the linear; then MD / linear summed over sub-bands of (omega - omega0) / gamma (+-")
+    print("# jackknife), and the same over -4..+4 for M_parallel in the slow frame of `analyse`")
+    print("# (which at small N loses power to the frame's lag); slow separatrix motion: rms of")
+    print("# |M| below omega0 - 4 gamma (Hann-tapered periodogram) over 2 M-bar, in kappa, and")
+    print("# where in the line the n = 2 resonance lies that far inside the separatrix; then MD /")
+    print("# linear over omega0 -+ 6 gamma where the linear N S_x exceeds 10 times the MD's")
+    print("# floor, grouped by (1 - kappa_res) / slow motion (number of frequencies)")
     for case in cases:
         state, omega0, gamma, _, _ = mode_parameters(case)
         dressed = _dressed_spectrum(state)
         print(f"{case}: M0 = {state.M0:.5f}, omega0 = {omega0:.5f}, gamma = {gamma:.5f}")
         for files, data, N, n_t, seg in _ensembles(out, case):
-            om, S, dt = _spectra(data, N, slice(0, n_t), seg)
+            om, S, dt = _modulus_spectra(data, N, n_t, seg)
             r = source_and_width(om, S, dt, seg, dressed, omega0, gamma)
             slow, edge = _slow_separatrix_motion(data, n_t, dt, state, omega0, gamma)
-            x = (om - omega0) / gamma
-            ratios = []
-            for lo, hi in SUB_BANDS:
-                sel = (x > lo) & (x < hi)
-                th = float(smoothed(dressed, om[sel], seg, dt).sum())
-                v, e = jackknife(S[:, sel], lambda s, t=th: s.mean(0).sum() / t)
-                ratios.append(f"{lo:+g}..{hi:+g}: {v:.3f} +- {e:.3f}")
+            bands = _band_ratios(om, S, seg, dt, dressed, omega0, gamma, (*SUB_BANDS, (-4, 4)))
+            om_p, S_p, _ = _spectra(data, N, slice(0, n_t), seg)
+            ((*_, par, par_err),) = _band_ratios(
+                om_p, S_p, seg, dt, dressed, omega0, gamma, ((-4, 4),)
+            )
             print(
                 f"  N = {N:.0f} ({len(files)} realisations, {r['n_freq']} frequencies, resolution "
                 f"{2 * np.pi / (seg * dt) / gamma:.2f} gamma): a = {r['a']:.3f} +- "
@@ -583,16 +578,46 @@ def width(out, cases):
                 f" +- {r['power_err']:.3f}; chi^2 free {r['chi2_free']:.1f}, g = 1 "
                 f"{r['chi2_source']:.1f} (a {r['a_source']:.3f}), a = 1 {r['chi2_damping']:.1f} "
                 f"(g {r['g_damping']:.3f}); MD / linear over (omega - omega0) / gamma in "
-                + ", ".join(ratios)
-                + f"; slow separatrix motion {slow:.3e} = 1 - kappa_res at (omega - omega0) / "
-                f"gamma = {edge:+.2f}",
+                + ", ".join(f"{lo:+g}..{hi:+g}: {v:.3f} +- {e:.3f}" for lo, hi, v, e in bands)
+                + f"; M_parallel over -4..+4: {par:.3f} +- {par_err:.3f}; slow separatrix motion "
+                f"{slow:.3e} = 1 - kappa_res at (omega - omega0) / gamma = {edge:+.2f}",
                 flush=True,
             )
             cells = _ratio_by_reach(om, S, dt, seg, dressed, state, omega0, gamma, slow)
             print("    MD / linear by (1 - kappa_res) / slow motion: " + ", ".join(cells))
-            mod = _modulus_ratios(data, N, n_t, seg, dt, dressed, omega0, gamma)
-            cells = [f"{lo:+g}..{hi:+g}: {v:.3f} +- {e:.3f}" for lo, hi, v, e in mod]
-            print("    |M| (no frame): " + ", ".join(cells))
+
+
+def _modulus_spectra(data, N, n_t, seg):
+    """(omega, N S of |M| per realisation, dt): the even mode's spectrum without a frame.  To
+    first order in the fluctuation |M| is M_parallel, but `_spectra` projects M on its direction
+    averaged over a Welch segment (`_slow_frame`), which at small N lags the direction's
+    wandering and takes power from the mode; |M| needs no frame."""
+    from hmfdiff.analysis.fluctuations import welch_spectrum
+
+    dt = float(data[0].attrs["m_every"])
+    rows = []
+    for ds in data:
+        mod = np.hypot(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t])
+        om, S, _, _ = welch_spectrum(mod[None, :], dt, seg)
+        rows.append(N * S)
+    return om, np.array(rows), dt
+
+
+def _band_ratios(om, S, seg, dt, linear, omega0, gamma, bands):
+    """(lo, hi, MD / linear, its jackknife error) of the Welch spectra S (realisations,
+    frequencies) summed over each band (lo, hi) of (omega - omega0) / gamma, against the
+    window-smoothed `linear`."""
+    from hmfdiff.analysis.md_spectrum import smoothed
+    from hmfdiff.analysis.relaxation_md import jackknife
+
+    x = (om - omega0) / gamma
+    cells = []
+    for lo, hi in bands:
+        sel = (x > lo) & (x < hi)
+        th = float(smoothed(linear, om[sel], seg, dt).sum())
+        v, e = jackknife(S[:, sel], lambda s, t=th: s.mean(0).sum() / t)
+        cells.append((float(lo), float(hi), float(v), float(e)))
+    return cells
 
 
 def low_frequency_variance(x, dt, cutoff):
@@ -634,32 +659,6 @@ def _slow_separatrix_motion(data, n_t, dt, state, omega0, gamma):
     except ValueError:
         edge = np.nan
     return slow, float(edge)
-
-
-def _modulus_ratios(data, N, n_t, seg, dt, dressed, omega0, gamma):
-    """(lo, hi, MD / linear, its jackknife error) over SUB_BANDS and over omega0 -+ 4 gamma (lo,
-    hi in units of gamma from omega0), with the MD's N S of |M| in place of
-    N S_x of M_parallel: to first order in the fluctuation they are the same, but M_parallel is
-    projected on the direction of M averaged over a Welch segment (`_slow_frame`), which at small
-    N lags the direction's wandering and takes power from the mode; |M| needs no frame."""
-    from hmfdiff.analysis.fluctuations import welch_spectrum
-    from hmfdiff.analysis.md_spectrum import smoothed
-    from hmfdiff.analysis.relaxation_md import jackknife
-
-    rows = []
-    for ds in data:
-        mod = np.hypot(ds["Mx_fine"].values[:n_t], ds["My_fine"].values[:n_t])
-        om, S, _, _ = welch_spectrum(mod[None, :], dt, seg)
-        rows.append(N * S)
-    S = np.array(rows)
-    x = (om - omega0) / gamma
-    cells = []
-    for lo, hi in (*SUB_BANDS[:3], (-4.0, 4.0)):
-        sel = (x > lo) & (x < hi)
-        th = float(smoothed(dressed, om[sel], seg, dt).sum())
-        v, e = jackknife(S[:, sel], lambda s, t=th: s.mean(0).sum() / t)
-        cells.append((lo, hi, float(v), float(e)))
-    return cells
 
 
 def _ratio_by_reach(om, S, dt, seg, dressed, state, omega0, gamma, slow):
