@@ -155,13 +155,19 @@ def _chunk_advance(p, S, C, h, dt, Fx, Fy, bound, path, periodic):
     return a, b, bound + grow, path
 
 
-@njit(fastmath=_FM)
+@njit(fastmath={"contract"})
 def _chunk_normalise(S, C):
-    """(S, C) divided by its norm, in float32."""
+    """(S, C) divided by its norm, computed in float64 and rounded once to the state's float32,
+    so that the norm is 1 to the float32 rounding, without a bias.  In float32 with fast-math
+    reciprocals an AVX-512 build took 1/sqrt from an estimate that left the norm short on
+    average (norm^2 - 1 = -1.2e-7 over 1e6 angles): a coherent scale of every particle's
+    coupling to the field, and an energy error of every kick that the normalisation preceded."""
     for i in range(S.size):
-        r = np.float32(1.0) / np.sqrt(S[i] * S[i] + C[i] * C[i])
-        S[i] = S[i] * r
-        C[i] = C[i] * r
+        s = np.float64(S[i])
+        c = np.float64(C[i])
+        r = 1.0 / math.sqrt(s * s + c * c)
+        S[i] = s * r
+        C[i] = c * r
 
 
 @njit(fastmath=_FM)
