@@ -66,8 +66,12 @@ in the N-body or driven by a weaker source.  Near the mode eps_cc ~ eps'(omega0)
 omega0 + i gamma), so the line is S_bare / |eps'|^2 / ((omega - omega0)^2 + gamma^2) and its
 power ~ S_bare / gamma: a deficit by a factor r is either a source r times the linear one at the
 linear width (a = r, g = 1) or the linear source with the damping 1/r times the linear one (a =
-1, g = 1/r).  It fits the mean N S_x over omega0 - gamma ... omega0 + 4 gamma (WIDTH_FIT: the
-core and the upper wing; the lower wing of the u = 0.2475 line meets the MD's floor) with the
+1, g = 1/r).  It works on the spectrum of |M|, which needs no frame (`_modulus_spectra`: to
+first order |M| is M_parallel, but M_parallel is M projected on its direction averaged over a
+Welch segment, which at small N lags the direction's wandering and takes power from the mode,
+the more so the longer the segment; M_parallel's power over omega0 -+ 4 gamma is printed beside
+it).  It fits the mean N S over omega0 - gamma ... omega0 + 4 gamma (WIDTH_FIT: the core and
+the upper wing; the lower wing of the u = 0.2475 line meets the MD's floor) with the
 window-smoothed
   a S_lin(omega) ((omega - omega0)^2 + gamma^2) / ((omega - omega0)^2 + (g gamma)^2),
 the linear spectrum with its pole's width scaled by g and its height by a, and prints a and g
@@ -75,11 +79,9 @@ the linear spectrum with its pole's width scaled by g and its height by a, and p
 free: weaker source; a = 1, g free: stronger damping) against the two-parameter fit, the
 power ratio the fit implies over its band, and MD / linear over the SUB_BANDS (the lower wing,
 the core, the upper wing, the far upper wing: a stronger damping lowers the core and leaves
-the wings; a weaker source lowers all alike), and the same from the spectrum of |M|, which needs
-no frame: M_parallel is M projected on its direction averaged over a Welch segment, which at
-small N lags the direction's wandering and takes power from the mode (at u = 0.2475 and N =
-62500, the more so the longer the segment).  Run it on realisations run to T_MAX = 2000 (Welch
-segments of 1000: a resolution of 2 pi / 1000 = 0.38 gamma for u = 0.2475).
+the wings; a weaker source lowers all alike) and over omega0 -+ 4 gamma.  Run it on
+realisations run to T_MAX = 2000 (Welch segments of 1000: a resolution of 2 pi / 1000 = 0.38
+gamma for u = 0.2475).
 """
 
 from __future__ import annotations
@@ -427,7 +429,6 @@ def band_kurtosis_excess(x, dt, lo, hi, rng, surrogates=20):
 
 def separatrix(out, cases):
     """Where the mode's resonance lies against the separatrix's finite-N motion."""
-    from hmfdiff.analysis.fluctuations import welch_spectrum
     from hmfdiff.analysis.md_spectrum import _slow_frame, smoothed
     from hmfdiff.analysis.relaxation_md import jackknife
     from hmfdiff.meanfield import orbits
@@ -468,8 +469,8 @@ def separatrix(out, cases):
             sel = (om >= FLOOR[0]) & (om <= FLOOR[1])
             floor, floor_err = jackknife(S[:, sel].mean(axis=1), lambda v: v.mean())
             th = float(smoothed(dressed, om[sel], seg, dt).mean())
-            s_mod = [N * welch_spectrum(m[None, :], dt, seg)[1][sel] for m in mods]
-            floor_mod, floor_mod_err = jackknife(np.mean(s_mod, axis=1), lambda v: v.mean())
+            s_mod = _modulus_spectra(data, N, n_t, seg)[1][:, sel]
+            floor_mod, floor_mod_err = jackknife(s_mod.mean(axis=1), lambda v: v.mean())
             lo, hi = omega0 - 4.0 * gamma, omega0 + 4.0 * gamma
             rng = np.random.default_rng(5)
             mode_rms, kurt = [], []
